@@ -1,0 +1,135 @@
+"""/api/v1/auth, /api/v1/tokens, /api/v1/users: logins, API tokens and users."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Query
+from pydantic import BaseModel, Field
+
+from twinlink.api.deps import Admin, Auth, Caller
+from twinlink.auth.rights import Principal
+from twinlink.auth.service import AuthError
+from twinlink.domain.errors import NotFoundError
+from twinlink.registry.build import human_time
+from twinlink.registry.service import ForbiddenError
+from twinlink.store.records import ApiToken, User
+
+router = APIRouter(prefix="/api/v1", tags=["auth"])
+
+_GROUP = r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$"
+
+
+class Login(BaseModel):
+    username: str = Field(min_length=1, max_length=128)
+    password: str = Field(min_length=1, max_length=1024)
+
+
+class NewToken(BaseModel):
+    name: str = Field(min_length=1, max_length=128, description="what the token is for")
+    expires_in_s: int | None = Field(None, gt=0, description="lifetime in seconds; none = no expiry")
+
+
+class NewUser(BaseModel):
+    username: str = Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.@-]*$")
+    password: str | None = Field(None, min_length=8, max_length=1024)
+    is_admin: bool = False
+    groups: list[Annotated[str, Field(pattern=_GROUP)]] = Field(default_factory=list)
+
+
+class UserChange(BaseModel):
+    password: str | None = Field(None, min_length=8, max_length=1024)
+    is_admin: bool | None = None
+    groups: list[Annotated[str, Field(pattern=_GROUP)]] | None = None
+    disabled: bool | None = None
+
+
+def user_view(u: User) -> dict[str, Any]:
+    return {"username": u.username, "is_admin": u.is_admin, "groups": u.groups,
+            "disabled": u.disabled, "created": human_time(u.created_ns)}
+
+
+def token_view(t: ApiToken) -> dict[str, Any]:
+    def when(ns: int | None) -> str | None:
+        return human_time(ns) if ns is not None else None
+
+    return {"id": t.id, "name": t.name, "prefix": t.prefix, "kind": t.kind,
+            "created": when(t.created_ns), "expires": when(t.expires_ns),
+            "last_used": when(t.last_used_ns), "revoked": when(t.revoked_ns)}
+
+
+@router.post("/auth/login", summary="Exchange a username and password for a session token")
+async def login(body: Login, auth: Auth) -> dict[str, Any]:
+    issued = await auth.login(body.username, body.password)
+    return {"token": issued.token, "token_type": "bearer", **token_view(issued.record)}
+
+
+@router.post("/auth/logout", summary="Revoke the token this request was made with")
+async def logout(caller: Caller, auth: Auth) -> dict[str, Any]:
+    assert caller.token_id is not None
+    await auth.revoke_token(caller, caller.token_id)
+    return {"revoked": caller.token_id}
+
+
+@router.get("/auth/me", summary="Who the caller is")
+async def me(caller: Caller) -> dict[str, Any]:
+    assert caller.user is not None
+    return user_view(caller.user)
+
+
+@router.get("/tokens", summary="The caller's API tokens (admins: everyone's with all=true)")
+async def list_tokens(caller: Caller, auth: Auth, all: bool = False) -> dict[str, Any]:  # noqa: A002
+    return {"tokens": [token_view(t) for t in await auth.list_tokens(caller, all)]}
+
+
+@router.post("/tokens", status_code=201, summary="Create an API token; the secret is shown once")
+async def create_token(body: NewToken, caller: Caller, auth: Auth) -> dict[str, Any]:
+    assert caller.user is not None
+    issued = await auth.issue_token(caller.user, body.name, body.expires_in_s)
+    return {"token": issued.token, **token_view(issued.record)}
+
+
+@router.delete("/tokens/{token_id}", summary="Revoke an API token")
+async def revoke_token(token_id: int, caller: Caller, auth: Auth) -> dict[str, Any]:
+    await auth.revoke_token(caller, token_id)
+    return {"revoked": token_id}
+
+
+@router.get("/users", summary="All users (admins)")
+async def list_users(_: Admin, auth: Auth) -> dict[str, Any]:
+    return {"users": [user_view(u) for u in await auth.store.list_users()]}
+
+
+@router.post("/users", status_code=201, summary="Create a user (admins)")
+async def create_user(body: NewUser, _: Admin, auth: Auth) -> dict[str, Any]:
+    user = await auth.create_user(body.username, body.password, body.is_admin, body.groups)
+    return user_view(user)
+
+
+@router.patch("/users/{username}", summary="Change a user (admins; users may change their password)")
+async def update_user(username: str, body: UserChange, caller: Caller, auth: Auth) -> dict[str, Any]:
+    _may_change(caller, username, body)
+    return user_view(await auth.update_user(
+        username, password=body.password, is_admin=body.is_admin, groups=body.groups,
+        disabled=body.disabled))
+
+
+@router.delete("/users/{username}", summary="Delete a user (admins)")
+async def delete_user(username: str, caller: Admin, auth: Auth,
+                      force: Annotated[bool, Query()] = False) -> dict[str, Any]:
+    user = await auth.require_user(username)
+    if caller.user is not None and user.id == caller.user.id and not force:
+        raise ForbiddenError("refusing to delete yourself; pass force=true if you mean it")
+    if not await auth.store.delete_user(user.id):
+        raise NotFoundError(f"no user named {username!r}")
+    return {"deleted": username}
+
+
+def _may_change(caller: Principal, username: str, body: UserChange) -> None:
+    if caller.is_admin:
+        return
+    if caller.user is None:
+        raise AuthError("a token is required")
+    own = caller.user.username.lower() == username.lower()
+    if not own or body.is_admin is not None or body.groups is not None or body.disabled is not None:
+        raise ForbiddenError("only admins change users; you may change your own password")

@@ -1,0 +1,23 @@
+"""/api/v1/search: ranked full-text search over twins and their features."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Query
+
+from twinlink.api.deps import Caller, Search
+
+router = APIRouter(prefix="/api/v1", tags=["search"])
+
+
+@router.get("/search", summary="Find twins and the features that hold what you need")
+async def search(
+    caller: Caller,
+    service: Search,
+    q: Annotated[str, Query(max_length=256, description="words; each matches as a prefix")] = "",
+    keyword: Annotated[str | None, Query(max_length=128, description="facet filter")] = None,
+    limit: Annotated[int, Query(ge=1, le=200)] = 20,
+    offset: Annotated[int, Query(ge=0, le=10_000)] = 0,
+) -> dict[str, Any]:
+    return await service.search(caller, q, keyword=keyword, limit=limit, offset=offset)

@@ -1,0 +1,1 @@
+"""Users, roles, API tokens and the rules of who may see and change what."""

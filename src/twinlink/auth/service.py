@@ -1,0 +1,173 @@
+"""Users, logins and API tokens."""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+from twinlink.auth.rights import Principal
+from twinlink.auth.secrets import (
+    hash_password,
+    hash_token,
+    new_password,
+    new_token,
+    token_prefix,
+    verify_password,
+)
+from twinlink.domain.errors import ConflictError, NotFoundError
+from twinlink.store.base import MetadataStore
+from twinlink.store.records import ApiToken, User
+
+log = logging.getLogger("twinlink.auth")
+ADMIN_USERNAME = "admin"
+
+
+class AuthError(Exception):
+    """Missing, unknown, expired or revoked credentials (HTTP 401)."""
+
+
+@dataclass(slots=True)
+class Bootstrap:
+    """What the first start created; printed once, never stored in clear."""
+
+    username: str
+    password: str | None
+    token: str | None
+
+
+@dataclass(slots=True)
+class IssuedToken:
+    token: str  # the secret, returned exactly once
+    record: ApiToken
+
+
+def now_ns() -> int:
+    return time.time_ns()
+
+
+class AuthService:
+    def __init__(self, store: MetadataStore, session_ttl_s: int) -> None:
+        self.store = store
+        self.session_ttl_ns = session_ttl_s * 1_000_000_000
+
+    async def bootstrap(self, admin_token: str | None, admin_password: str | None) -> Bootstrap | None:
+        """On an empty store, create `admin` with a token; returns the secrets to print once.
+
+        A preset `admin_token` (TWINLINK_ADMIN_TOKEN) is also ensured on later starts, so an
+        automation that knows it can always get in.
+        """
+        created: Bootstrap | None = None
+        if await self.store.count_users() == 0:
+            password = admin_password or new_password()
+            user = await self.store.create_user(
+                ADMIN_USERNAME, hash_password(password), True, [], now_ns()
+            )
+            token = admin_token or new_token()
+            await self._store_token(user.id, "bootstrap", token, "api", None)
+            created = Bootstrap(
+                ADMIN_USERNAME,
+                None if admin_password else password,
+                None if admin_token else token,
+            )
+            log.info("created the first admin", extra={"event": "bootstrap", "user": ADMIN_USERNAME})
+        elif admin_token and await self.store.find_token(hash_token(admin_token)) is None:
+            admin = await self.store.get_user_by_name(ADMIN_USERNAME)
+            if admin is not None:
+                await self._store_token(admin.id, "preset", admin_token, "api", None)
+        return created
+
+    async def authenticate(self, token: str) -> Principal:
+        found = await self.store.find_token(hash_token(token))
+        if found is None:
+            raise AuthError("the token is not valid")
+        record, user = found
+        now = now_ns()
+        if record.revoked_ns is not None:
+            raise AuthError("the token has been revoked")
+        if record.expires_ns is not None and record.expires_ns <= now:
+            raise AuthError("the token has expired")
+        if user.disabled:
+            raise AuthError("the user is disabled")
+        # Record use at most once a minute: a write per request would cost more than the lookup.
+        if record.last_used_ns is None or now - record.last_used_ns > 60_000_000_000:
+            await self.store.touch_token(record.id, now)
+        return Principal(user=user, token_id=record.id)
+
+    async def login(self, username: str, password: str) -> IssuedToken:
+        user = await self.store.get_user_by_name(username)
+        if not verify_password(user.password_hash if user else None, password) or user is None:
+            raise AuthError("wrong username or password")
+        if user.disabled:
+            raise AuthError("the user is disabled")
+        return await self.issue_token(user, "login session", ttl_s=None, kind="session")
+
+    async def issue_token(
+        self, user: User, name: str, ttl_s: int | None, kind: str = "api"
+    ) -> IssuedToken:
+        expires = None
+        if kind == "session":
+            expires = now_ns() + self.session_ttl_ns
+        elif ttl_s is not None:
+            expires = now_ns() + ttl_s * 1_000_000_000
+        token = new_token()
+        record = await self._store_token(user.id, name, token, kind, expires)
+        return IssuedToken(token, record)
+
+    async def _store_token(
+        self, user_id: int, name: str, token: str, kind: str, expires_ns: int | None
+    ) -> ApiToken:
+        return await self.store.create_token(
+            user_id, name, hash_token(token), token_prefix(token), kind, now_ns(), expires_ns
+        )
+
+    async def revoke_token(self, principal: Principal, token_id: int) -> None:
+        record = await self.store.get_token(token_id)
+        if record is None or not (principal.is_admin or _owns(principal, record)):
+            raise NotFoundError(f"no token {token_id}")
+        await self.store.revoke_token(token_id, now_ns())
+
+    async def list_tokens(self, principal: Principal, all_users: bool) -> list[ApiToken]:
+        assert principal.user is not None
+        if all_users and principal.is_admin:
+            return await self.store.list_tokens(None)
+        return await self.store.list_tokens(principal.user.id)
+
+    async def create_user(
+        self, username: str, password: str | None, is_admin: bool, groups: list[str]
+    ) -> User:
+        if await self.store.get_user_by_name(username) is not None:
+            raise ConflictError(f"a user named {username!r} already exists")
+        return await self.store.create_user(
+            username, hash_password(password) if password else None, is_admin, groups, now_ns()
+        )
+
+    async def update_user(
+        self,
+        username: str,
+        *,
+        password: str | None = None,
+        is_admin: bool | None = None,
+        groups: list[str] | None = None,
+        disabled: bool | None = None,
+    ) -> User:
+        user = await self.require_user(username)
+        updated = await self.store.update_user(
+            user.id,
+            password_hash=hash_password(password) if password else None,
+            is_admin=is_admin,
+            groups=groups,
+            disabled=disabled,
+        )
+        assert updated is not None
+        return updated
+
+    async def require_user(self, username: str) -> User:
+        user = await self.store.get_user_by_name(username)
+        if user is None:
+            raise NotFoundError(f"no user named {username!r}")
+        return user
+
+
+def _owns(principal: Principal, record: ApiToken) -> bool:
+    return principal.user is not None and principal.user.id == record.user_id

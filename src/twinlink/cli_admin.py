@@ -1,0 +1,186 @@
+"""`twinlink twins|users|tokens`: registry and account administration over the API."""
+
+from __future__ import annotations
+
+import click
+
+from twinlink.client import Client
+
+
+def _client(ctx: click.Context) -> Client:
+    root = ctx.find_root()
+    return Client(root.obj["url"], root.obj["token"])
+
+
+def _emit(data: object, as_json: bool) -> None:
+    from twinlink.cli import _emit as emit
+
+    emit(data, as_json)
+
+
+# -- twins ---------------------------------------------------------------------------------
+
+
+@click.group()
+def twins() -> None:
+    """List, show and delete twins."""
+
+
+@twins.command("ls")
+@click.option("-k", "--keyword", help="Only twins with a feature of this keyword.")
+@click.option("-q", "--name", help="Only twins whose name contains this text.")
+@click.option("--mine", is_flag=True, help="Only twins you have a role on.")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@click.pass_context
+def twins_ls(ctx: click.Context, keyword: str | None, name: str | None, mine: bool, as_json: bool) -> None:
+    """List the twins you may see (all pages)."""
+    client = _client(ctx)
+    items, cursor = [], None
+    while True:
+        page = client.json("GET", "/api/v1/twins", params={
+            "limit": 500, "cursor": cursor, "keyword": keyword, "q": name, "mine": mine})
+        items.extend(page["items"])
+        cursor = page["next_cursor"]
+        if not cursor:
+            break
+    if as_json:
+        _emit(items, True)
+        return
+    for t in items:
+        click.echo(f"{t['slug']:<28} {t['name']:<32} {','.join(t['levels'])}")
+
+
+@twins.command("get")
+@click.argument("slug")
+@click.option("-o", "--output", type=click.Choice(["yaml", "json"]), default="yaml", show_default=True)
+@click.pass_context
+def twins_get(ctx: click.Context, slug: str, output: str) -> None:
+    """Print a twin's DT document as you may see it."""
+    answer = _client(ctx).json("GET", f"/api/v1/twins/{slug}")
+    _emit(answer["document"], output == "json")
+
+
+@twins.command("rm")
+@click.argument("slugs", nargs=-1, required=True)
+@click.option("--cascade", is_flag=True, help="Also delete every descendant.")
+@click.pass_context
+def twins_rm(ctx: click.Context, slugs: tuple[str, ...], cascade: bool) -> None:
+    """Delete twins."""
+    client = _client(ctx)
+    for slug in slugs:
+        answer = client.json("DELETE", f"/api/v1/twins/{slug}", params={"cascade": cascade})
+        click.echo(f"deleted {', '.join(answer['deleted'])}")
+
+
+@twins.command("tree")
+@click.argument("slug")
+@click.option("--up", is_flag=True, help="Show ancestors instead of descendants.")
+@click.option("-d", "--depth", default=3, show_default=True)
+@click.pass_context
+def twins_tree(ctx: click.Context, slug: str, up: bool, depth: int) -> None:
+    """Show the composition tree below (or above) a twin."""
+    node = _client(ctx).json("GET", f"/api/v1/twins/{slug}/relations",
+                             params={"direction": "up" if up else "down", "depth": depth})
+
+    def show(n: dict[str, object], indent: int) -> None:
+        label = n.get("slug") or f"{n['id']} (not registered here)"
+        click.echo(f"{'  ' * indent}{label}  {n.get('name', '')}".rstrip())
+        for child in n.get("nodes", []):  # type: ignore[attr-defined]
+            show(child, indent + 1)
+
+    show(node, 0)
+
+
+# -- users ---------------------------------------------------------------------------------
+
+
+@click.group()
+def users() -> None:
+    """Manage users (admins)."""
+
+
+@users.command("ls")
+@click.pass_context
+def users_ls(ctx: click.Context) -> None:
+    """List users."""
+    for u in _client(ctx).json("GET", "/api/v1/users")["users"]:
+        flags = [x for x in ("admin" if u["is_admin"] else "", "disabled" if u["disabled"] else "") if x]
+        click.echo(f"{u['username']:<24} {','.join(u['groups']):<20} {' '.join(flags)}".rstrip())
+
+
+@users.command("add")
+@click.argument("username")
+@click.option("--password", prompt=True, hide_input=True, confirmation_prompt=True)
+@click.option("--admin", is_flag=True, help="Make the user a platform admin.")
+@click.option("-g", "--group", "groups", multiple=True, help="User group (repeatable).")
+@click.pass_context
+def users_add(ctx: click.Context, username: str, password: str, admin: bool, groups: tuple[str, ...]) -> None:
+    """Create a user."""
+    _client(ctx).json("POST", "/api/v1/users", json={
+        "username": username, "password": password, "is_admin": admin, "groups": list(groups)})
+    click.echo(f"created user {username}")
+
+
+@users.command("set")
+@click.argument("username")
+@click.option("--password", help="New password.")
+@click.option("--admin/--no-admin", default=None, help="Grant or take away platform admin.")
+@click.option("-g", "--group", "groups", multiple=True, help="Replace the user's groups.")
+@click.option("--disable/--enable", "disabled", default=None, help="Disable or enable sign-in.")
+@click.pass_context
+def users_set(ctx: click.Context, username: str, password: str | None, admin: bool | None,
+              groups: tuple[str, ...], disabled: bool | None) -> None:
+    """Change a user."""
+    body: dict[str, object] = {"password": password, "is_admin": admin, "disabled": disabled}
+    if groups:
+        body["groups"] = list(groups)
+    _client(ctx).json("PATCH", f"/api/v1/users/{username}",
+                      json={k: v for k, v in body.items() if v is not None})
+    click.echo(f"updated user {username}")
+
+
+@users.command("rm")
+@click.argument("username")
+@click.pass_context
+def users_rm(ctx: click.Context, username: str) -> None:
+    """Delete a user."""
+    _client(ctx).json("DELETE", f"/api/v1/users/{username}")
+    click.echo(f"deleted user {username}")
+
+
+# -- tokens --------------------------------------------------------------------------------
+
+
+@click.group()
+def tokens() -> None:
+    """Manage API tokens."""
+
+
+@tokens.command("ls")
+@click.option("--all", "all_users", is_flag=True, help="Everyone's tokens (admins).")
+@click.pass_context
+def tokens_ls(ctx: click.Context, all_users: bool) -> None:
+    """List your API tokens (never their secrets)."""
+    for t in _client(ctx).json("GET", "/api/v1/tokens", params={"all": all_users})["tokens"]:
+        state = "revoked" if t["revoked"] else f"expires {t['expires']}" if t["expires"] else "no expiry"
+        click.echo(f"{t['id']:>5}  {t['prefix']}…  {t['name']:<24} {t['kind']:<8} {state}")
+
+
+@tokens.command("create")
+@click.argument("name")
+@click.option("--expires-in", type=int, help="Lifetime in seconds.")
+@click.pass_context
+def tokens_create(ctx: click.Context, name: str, expires_in: int | None) -> None:
+    """Create an API token; its secret is printed once."""
+    answer = _client(ctx).json("POST", "/api/v1/tokens", json={"name": name, "expires_in_s": expires_in})
+    click.echo(answer["token"])
+    click.echo(f"(token {answer['id']} '{name}': shown once, store it now)", err=True)
+
+
+@tokens.command("revoke")
+@click.argument("token_id", type=int)
+@click.pass_context
+def tokens_revoke(ctx: click.Context, token_id: int) -> None:
+    """Revoke an API token by its id."""
+    _client(ctx).json("DELETE", f"/api/v1/tokens/{token_id}")
+    click.echo(f"revoked token {token_id}")

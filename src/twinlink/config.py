@@ -1,0 +1,85 @@
+"""Settings from `TWINLINK_*` environment variables or a TOML file.
+
+Precedence, highest first: explicit arguments (CLI flags), environment variables,
+the TOML file named by `TWINLINK_CONFIG` (or `--config`), then the defaults below.
+Every field is documented in docs/config.md; a test keeps the two in step.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from pydantic import Field, SecretStr
+from pydantic_settings import (
+    BaseSettings,
+    PydanticBaseSettingsSource,
+    SettingsConfigDict,
+    TomlConfigSettingsSource,
+)
+
+
+class Settings(BaseSettings):
+    model_config = SettingsConfigDict(env_prefix="TWINLINK_", extra="forbid")
+
+    host: str = Field("127.0.0.1", description="Address the HTTP server binds to.")
+    port: int = Field(8000, ge=0, le=65535, description="TCP port of the HTTP server (0 = any free port).")
+    data_dir: Path = Field(
+        Path("./twinlink-data"),
+        description="Folder holding the embedded SQLite store and other state; created if missing.",
+    )
+    public_url: str = Field(
+        "",
+        description="Base URL the platform is reached at, used for generated twin ids and links. "
+        "Empty means http://{host}:{port}.",
+    )
+    admin_token: SecretStr | None = Field(
+        None,
+        description="Preset API token for the first admin (for automation). When unset, the first "
+        "start generates one and prints it once.",
+    )
+    admin_password: SecretStr | None = Field(
+        None,
+        description="Password for the first admin user `admin`. When unset, the first start "
+        "generates one and prints it once.",
+    )
+    session_ttl_s: int = Field(
+        12 * 3600, gt=0, description="Lifetime in seconds of the token returned by login."
+    )
+    max_document_bytes: int = Field(
+        1_048_576, gt=0, description="Largest DT document (YAML or JSON) accepted, in bytes."
+    )
+    log_level: str = Field("info", description="Log level: debug, info, warning or error.")
+    log_format: str = Field("json", description="Log line format: json (one object a line) or text.")
+    access_log: bool = Field(False, description="Log one line per HTTP request.")
+
+    @classmethod
+    def settings_customise_sources(
+        cls,
+        settings_cls: type[BaseSettings],
+        init_settings: PydanticBaseSettingsSource,
+        env_settings: PydanticBaseSettingsSource,
+        dotenv_settings: PydanticBaseSettingsSource,
+        file_secret_settings: PydanticBaseSettingsSource,
+    ) -> tuple[PydanticBaseSettingsSource, ...]:
+        sources: list[PydanticBaseSettingsSource] = [init_settings, env_settings]
+        toml_file = os.environ.get("TWINLINK_CONFIG")
+        if toml_file:
+            sources.append(TomlConfigSettingsSource(settings_cls, toml_file=Path(toml_file)))
+        return tuple(sources)
+
+    @property
+    def base_url(self) -> str:
+        if self.public_url:
+            return self.public_url.rstrip("/")
+        host = "127.0.0.1" if self.host in ("0.0.0.0", "::", "") else self.host
+        return f"http://{host}:{self.port}"
+
+
+def load_settings(config_file: str | None = None, **overrides: Any) -> Settings:
+    """Build settings; `overrides` (CLI flags) win over the environment and the file."""
+    if config_file:
+        os.environ["TWINLINK_CONFIG"] = config_file
+    clean = {k: v for k, v in overrides.items() if v is not None}
+    return Settings(**clean)

@@ -1,0 +1,1 @@
+"""Pure data model and rules: DT documents, privacy, relations. No I/O."""

@@ -1,0 +1,244 @@
+"""The DT document: the Aalto dt-document fields, Twinbase's, and our `interface` section.
+
+Validation checks types and rules; the document itself stays the plain mapping it was read
+as, so keys we do not know are kept and come back in their order on output.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
+
+from twinlink.domain.errors import DocumentError, Problem
+from twinlink.domain.yamlsource import Path, SourceDocument
+
+SUPPORTED_VERSION = re.compile(r"^(0|1)(\.\d+){0,2}$")
+PRIVACY_LEVEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$")
+PLATFORM_KEYS = ("createdMachine", "createdHuman", "modifiedMachine", "modifiedHuman")
+
+
+def _number_to_text(value: Any) -> Any:
+    # YAML reads `version: 1.0` as a float; the spec means the string "1.0".
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        return str(value)
+    return value
+
+
+def _one_to_list(value: Any) -> Any:
+    return [value] if isinstance(value, str) else value
+
+
+Text = Annotated[str, BeforeValidator(_number_to_text)]
+
+
+class _Open(BaseModel):
+    """Unknown keys are allowed everywhere: the spec lets any key-value pair be added."""
+
+    model_config = ConfigDict(extra="allow", populate_by_name=True, strict=False)
+
+
+class Party(_Open):
+    name: Text | None = None
+    email: Text | None = None
+    website: Text | None = None
+
+
+class Location(_Open):
+    streetAddress: Text | None = None
+    gpsCoordinates: Text | None = None
+
+
+class Relation(_Open):
+    relationType: Literal["parent", "child", "sibling"]
+    id: Text | None = None
+    dt_id: Text | None = Field(None, alias="dt-id")
+
+    @model_validator(mode="after")
+    def _has_target(self) -> Relation:
+        if not (self.id or self.dt_id):
+            raise ValueError("a relation needs the other twin's `id` (or `dt-id`)")
+        return self
+
+    @property
+    def target(self) -> str:
+        return str(self.id or self.dt_id)
+
+
+class Feature(_Open):
+    name: Text = Field(min_length=1)
+    description: Text | None = None
+    address: Text | None = None
+    apiAddress: Text | None = None
+    requirement: Text | None = None
+    documentation: Text | None = None
+    keywords: Annotated[list[Text], BeforeValidator(_one_to_list)] = Field(default_factory=list)
+
+
+SignalType = Literal["number", "integer", "bool", "string"]
+
+
+class Signal(_Open):
+    name: Text = Field(min_length=1)
+    unit: Text | None = None
+    type: SignalType = "number"
+    min: float | None = None
+    max: float | None = None
+    description: Text | None = None
+
+    @model_validator(mode="after")
+    def _range(self) -> Signal:
+        if self.min is not None and self.max is not None and self.min > self.max:
+            raise ValueError(f"min ({self.min}) is greater than max ({self.max})")
+        return self
+
+
+class Property(Signal):
+    writable: bool = False
+
+
+class Parameter(Signal):
+    required: bool = False
+    default: Any = None
+
+
+class Command(_Open):
+    name: Text = Field(min_length=1)
+    description: Text | None = None
+    parameters: list[Parameter] = Field(default_factory=list)
+
+
+class Interface(_Open):
+    signals: list[Signal] = Field(default_factory=list)
+    properties: list[Property] = Field(default_factory=list)
+    commands: list[Command] = Field(default_factory=list)
+
+
+class DocumentPart(_Open):
+    """One document as written: a whole twin, or its part for one privacy level."""
+
+    version: Text
+    privacy: Text = "private"
+    id: Text | None = None
+    dt_id: Text | None = Field(None, alias="dt-id")
+    hosting_iri: Text | None = Field(None, alias="hosting-iri")
+    name: Text | None = None
+    description: Text | None = None
+    owner: Text | Party | None = None
+    contact: Party | None = None
+    location: Location | None = None
+    manufacturer: Text | Party | None = None
+    apiGatewayAddress: Text | None = None
+    relations: list[Relation] = Field(default_factory=list)
+    features: list[Feature] = Field(default_factory=list)
+    interface: Interface | None = None
+
+    @property
+    def global_id(self) -> str | None:
+        return self.id or self.dt_id
+
+
+def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]:
+    """Check one document; every problem is reported at once, with its line and column."""
+    raw = source.data
+    if not isinstance(raw, dict):
+        kind = "empty" if raw is None else type(raw).__name__
+        raise DocumentError(
+            "A DT document must be a mapping of keys to values.",
+            [source.problem(f"expected a mapping at the top level, found {kind}")],
+        )
+    problems: list[Problem] = []
+    part: DocumentPart | None = None
+    try:
+        part = DocumentPart.model_validate(raw)
+    except ValidationError as err:
+        for e in err.errors(include_url=False):
+            path = _data_path(raw, e["loc"])
+            problems.append(source.problem(_message(e), path))
+    if part is not None:
+        problems.extend(_rules(part, source))
+    if problems:
+        raise DocumentError("The DT document has problems; nothing was stored.", problems)
+    assert part is not None
+    return part, _normalised(raw, part)
+
+
+def _rules(part: DocumentPart, source: SourceDocument) -> list[Problem]:
+    problems = []
+    if not SUPPORTED_VERSION.match(part.version):
+        problems.append(source.problem(
+            f"unsupported version {part.version!r}: twinlink reads dt-document versions 0.x "
+            "and 1.x (\"1.0\", \"0.1\")", ("version",)))
+    if not PRIVACY_LEVEL.match(part.privacy):
+        problems.append(source.problem(
+            "privacy must be public, private or a group name (letters, digits, . _ : -)",
+            ("privacy",)))
+    if part.id and part.dt_id and part.id != part.dt_id:
+        problems.append(source.problem("`id` and `dt-id` name different twins", ("dt-id",)))
+    for section, items in (("features", part.features), ("relations", None)):
+        if items is None:
+            continue
+        seen: dict[str, int] = {}
+        for i, item in enumerate(items):
+            if item.name in seen:
+                problems.append(source.problem(
+                    f"duplicate feature name {item.name!r} (first at features[{seen[item.name]}])",
+                    (section, i, "name")))
+            seen.setdefault(item.name, i)
+    if part.interface is not None:
+        for section in ("signals", "properties", "commands"):
+            names: set[str] = set()
+            for i, item in enumerate(getattr(part.interface, section)):
+                if item.name in names:
+                    problems.append(source.problem(
+                        f"duplicate {section[:-1]} name {item.name!r}",
+                        ("interface", section, i, "name")))
+                names.add(item.name)
+    return problems
+
+
+def _normalised(raw: dict[str, Any], part: DocumentPart) -> dict[str, Any]:
+    """The document as stored: the input mapping with text fields made text."""
+    out = dict(raw)
+    out["version"] = part.version
+    out["privacy"] = part.privacy
+    for key in PLATFORM_KEYS:
+        out.pop(key, None)
+    return out
+
+
+def _data_path(raw: Any, loc: tuple[int | str, ...]) -> Path:
+    """Pydantic locations name union members (`str`, `Party`); keep only real keys."""
+    path: list[str | int] = []
+    node = raw
+    aliases = {"dt_id": "dt-id", "hosting_iri": "hosting-iri"}
+    for part in loc:
+        key = aliases.get(part, part) if isinstance(part, str) else part
+        if isinstance(node, dict) and key in node:
+            node = node[key]
+            path.append(key)
+        elif isinstance(node, list) and isinstance(key, int) and 0 <= key < len(node):
+            node = node[key]
+            path.append(key)
+        elif isinstance(node, dict) and isinstance(key, str) and key[:1].islower() and key not in (
+            "str", "int", "float", "bool", "list", "dict", "literal"
+        ) and not key.startswith(("function-", "literal[")):
+            path.append(key)  # a missing key: point at its parent, name it in the path
+            break
+    return tuple(path)
+
+
+def _message(e: Any) -> str:
+    kind = e["type"]
+    if kind == "missing":
+        return f"required key `{e['loc'][-1]}` is missing"
+    if kind == "literal_error":
+        return str(e["msg"]).replace("Input should be", "must be")
+    msg = str(e["msg"])
+    if msg.startswith("Value error, "):
+        msg = msg[len("Value error, "):]
+    got = e.get("input")
+    if kind.endswith("_type") and not isinstance(got, dict | list):
+        return f"{msg} (got {got!r})"
+    return msg

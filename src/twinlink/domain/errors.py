@@ -1,0 +1,50 @@
+"""Errors of the domain layer, each carrying what a person needs to fix the input."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True, slots=True)
+class Problem:
+    """One problem found in a document: where it is and what is wrong."""
+
+    message: str
+    path: str = ""
+    line: int | None = None
+    column: int | None = None
+    document: int | None = None  # index in a multi-document YAML stream, from 0
+
+    def as_dict(self) -> dict[str, object]:
+        out: dict[str, object] = {"message": self.message, "path": self.path}
+        if self.line is not None:
+            out["line"] = self.line
+            out["column"] = self.column
+        if self.document is not None:
+            out["document"] = self.document
+        return out
+
+    def __str__(self) -> str:
+        where = f"line {self.line}, column {self.column}: " if self.line is not None else ""
+        path = f"{self.path}: " if self.path else ""
+        return f"{where}{path}{self.message}"
+
+
+@dataclass(slots=True)
+class DocumentError(Exception):
+    """A document was refused; `problems` lists every problem found, not only the first."""
+
+    title: str
+    problems: list[Problem] = field(default_factory=list)
+
+    def __str__(self) -> str:
+        lines = [self.title, *(f"  - {p}" for p in self.problems)]
+        return "\n".join(lines)
+
+
+class NotFoundError(LookupError):
+    """The thing asked for does not exist (or the caller may not know that it does)."""
+
+
+class ConflictError(Exception):
+    """The request contradicts the current state (a cycle, existing children, a taken name)."""

@@ -1,0 +1,1 @@
+"""The twin registry: apply, read, list, delete, relations and the document views."""

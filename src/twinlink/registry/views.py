@@ -1,0 +1,55 @@
+"""The document a reader sees: visible parts merged, relations and timestamps filled in."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from twinlink.domain.merge import merge_parts
+from twinlink.registry.build import human_time, machine_time
+from twinlink.store.records import Edge, TwinRecord
+
+_LEADING = ("version", "privacy", "id", "dt-id", "hosting-iri", "name", "description")
+_TIMES = ("createdMachine", "createdHuman", "modifiedMachine", "modifiedHuman")
+
+
+def relation_entries(dt_id: str, edges: list[Edge], id_key: str) -> list[dict[str, str]]:
+    seen: set[tuple[str, str]] = set()
+    out = []
+    for e in sorted(edges, key=lambda e: (e.kind, e.source, e.target)):
+        if e.kind == "parent":
+            entry = ("child", e.target) if e.source == dt_id else ("parent", e.source)
+        else:
+            entry = ("sibling", e.target if e.source == dt_id else e.source)
+        if entry not in seen and entry[1] != dt_id:
+            seen.add(entry)
+            out.append({"relationType": entry[0], id_key: entry[1]})
+    return out
+
+
+def render_document(
+    twin: TwinRecord, parts: dict[str, dict[str, Any]], edges: list[Edge], canonical_url: str
+) -> dict[str, Any]:
+    """Merge the visible `parts`; `edges` must already be filtered to what the reader may see."""
+    merged = merge_parts(parts)
+    id_key = "id" if any("id" in p for p in parts.values()) else "dt-id"
+    merged.pop("id", None)
+    merged.pop("dt-id", None)
+    merged[id_key] = twin.dt_id
+    merged.setdefault("hosting-iri", canonical_url)
+    times = {
+        "createdMachine": machine_time(twin.created_ns),
+        "createdHuman": human_time(twin.created_ns),
+        "modifiedMachine": machine_time(twin.modified_ns),
+        "modifiedHuman": human_time(twin.modified_ns),
+    }
+    relations = relation_entries(twin.dt_id, edges, id_key)
+    out: dict[str, Any] = {k: merged[k] for k in _LEADING if k in merged}
+    out.update(times)
+    for key, value in merged.items():
+        if key == "features" and relations:
+            out["relations"] = relations
+        if key not in out:
+            out[key] = value
+    if relations and "relations" not in out:
+        out["relations"] = relations
+    return out

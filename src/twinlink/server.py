@@ -1,0 +1,50 @@
+"""Running the app under uvicorn, and what the first start prints."""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import sys
+from collections.abc import Callable
+
+import uvicorn
+
+from twinlink.app import Services, create_app
+from twinlink.auth.service import Bootstrap
+from twinlink.config import Settings
+from twinlink.logs import setup_logging
+
+
+def print_bootstrap(created: Bootstrap) -> None:
+    lines = [
+        "",
+        "  twinlink created the first admin user; this is shown once, keep it safe:",
+        f"    username: {created.username}",
+    ]
+    if created.password:
+        lines.append(f"    password: {created.password}")
+    if created.token:
+        lines.append(f"    API token: {created.token}")
+    lines.append("")
+    print("\n".join(lines), file=sys.stderr, flush=True)
+
+
+def serve(
+    settings: Settings,
+    on_ready: Callable[[Services], object] | None = None,
+    on_bootstrap: Callable[[Bootstrap], None] = print_bootstrap,
+) -> None:
+    setup_logging(settings.log_level, settings.log_format)
+    sock = socket.socket(socket.AF_INET6 if ":" in settings.host else socket.AF_INET)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.bind((settings.host, settings.port))
+    if settings.port == 0:
+        settings.port = sock.getsockname()[1]
+    app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=on_ready)
+    config = uvicorn.Config(
+        app, log_level=settings.log_level, access_log=settings.access_log, lifespan="on",
+        server_header=False, proxy_headers=False,
+    )
+    server = uvicorn.Server(config)
+    print(f"twinlink listening on {settings.base_url}", file=sys.stderr, flush=True)
+    asyncio.run(server.serve(sockets=[sock]))

@@ -1,0 +1,1 @@
+"""Persistence behind small interfaces (`base.py`); `sqlite/` is the embedded default."""

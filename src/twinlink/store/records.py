@@ -1,0 +1,101 @@
+"""Plain records passed between the store and the services."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+Role = Literal["owner", "editor", "viewer"]
+ROLES: tuple[Role, ...] = ("owner", "editor", "viewer")
+ROLE_RANK: dict[str, int] = {"viewer": 1, "editor": 2, "owner": 3}
+
+
+@dataclass(slots=True)
+class User:
+    id: int
+    username: str
+    is_admin: bool
+    groups: list[str]
+    created_ns: int
+    disabled: bool = False
+    password_hash: str | None = field(default=None, repr=False)
+
+
+@dataclass(slots=True)
+class ApiToken:
+    id: int
+    user_id: int
+    name: str
+    prefix: str
+    created_ns: int
+    expires_ns: int | None
+    last_used_ns: int | None
+    revoked_ns: int | None
+    kind: str = "api"
+
+
+@dataclass(slots=True)
+class TwinRecord:
+    id: int
+    slug: str
+    dt_id: str
+    name: str
+    created_ns: int
+    modified_ns: int
+    visibility: str  # the least private level among its parts: public | group | private
+    levels: list[str] = field(default_factory=list)  # privacy levels of its parts
+
+
+@dataclass(slots=True)
+class Edge:
+    """A relation between two twins by global id: `source` is parent of (or sibling of) `target`."""
+
+    source: str
+    kind: Literal["parent", "sibling"]
+    target: str
+    declared_by: str
+    privacy: str
+
+
+@dataclass(slots=True)
+class TwinWrite:
+    """Everything an apply changes, written in one transaction."""
+
+    slug: str
+    dt_id: str
+    name: str
+    created_ns: int
+    modified_ns: int
+    parts: dict[str, dict[str, Any]]  # all parts after the change, by privacy level
+    edges: list[Edge]  # the edges this twin's document declares
+    search_rows: list[SearchRow]
+    owner_user_id: int | None = None  # granted `owner` when the twin is new
+    twin_id: int | None = None  # None creates
+
+
+@dataclass(slots=True)
+class SearchRow:
+    privacy: str
+    feature: str | None  # None: the twin itself (name, description, top-level fields)
+    name: str
+    description: str
+    keywords: list[str]
+    extra: str
+
+
+@dataclass(slots=True)
+class Visibility:
+    """What a reader may see: all (admin), or public plus the levels granted per twin."""
+
+    is_admin: bool = False
+    user_id: int | None = None
+    groups: tuple[str, ...] = ()
+
+
+
+
+@dataclass(slots=True)
+class SearchResult:
+    total: int
+    hits: list[dict[str, Any]]
+    facets: list[tuple[str, int]]

@@ -1,0 +1,28 @@
+"""The SQLite store: one file in the data dir, opened in WAL mode, migrated on open."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from twinlink.store.sqlite.db import Database
+from twinlink.store.sqlite.search import SearchTables
+from twinlink.store.sqlite.twins import TwinTables
+from twinlink.store.sqlite.users import UserTables
+
+
+class SqliteStore(UserTables, TwinTables, SearchTables):
+    """Metadata store of users, tokens, twins, relations and the search index."""
+
+    FILE_NAME = "twinlink.sqlite3"
+
+    def __init__(self, data_dir: Path) -> None:
+        self.db = Database(Path(data_dir) / self.FILE_NAME)
+
+    async def open(self) -> None:
+        await self.db.open()
+
+    async def close(self) -> None:
+        await self.db.close()
+
+    async def ping(self) -> bool:
+        return bool(await self.db.read(lambda c: c.execute("SELECT 1").fetchone()[0]))

@@ -1,0 +1,170 @@
+"""Users and API tokens in SQLite."""
+
+from __future__ import annotations
+
+import sqlite3
+
+import orjson
+
+from twinlink.store.records import ApiToken, User
+from twinlink.store.sqlite.db import Database
+
+
+def _user(row: sqlite3.Row) -> User:
+    return User(
+        id=row["id"],
+        username=row["username"],
+        is_admin=bool(row["is_admin"]),
+        groups=orjson.loads(row["groups_json"]),
+        created_ns=row["created_ns"],
+        disabled=bool(row["disabled"]),
+        password_hash=row["password_hash"],
+    )
+
+
+def _token(row: sqlite3.Row) -> ApiToken:
+    return ApiToken(
+        id=row["id"],
+        user_id=row["user_id"],
+        name=row["name"],
+        prefix=row["prefix"],
+        kind=row["kind"],
+        created_ns=row["created_ns"],
+        expires_ns=row["expires_ns"],
+        last_used_ns=row["last_used_ns"],
+        revoked_ns=row["revoked_ns"],
+    )
+
+
+class UserTables:
+    db: Database
+
+    async def count_users(self) -> int:
+        return await self.db.read(lambda c: c.execute("SELECT count(*) FROM users").fetchone()[0])
+
+    async def create_user(
+        self, username: str, password_hash: str | None, is_admin: bool, groups: list[str], now_ns: int
+    ) -> User:
+        def _create(c: sqlite3.Connection) -> User:
+            cur = c.execute(
+                "INSERT INTO users(username, password_hash, is_admin, groups_json, created_ns)"
+                " VALUES (?, ?, ?, ?, ?)",
+                (username, password_hash, int(is_admin), orjson.dumps(groups).decode(), now_ns),
+            )
+            row = c.execute("SELECT * FROM users WHERE id = ?", (cur.lastrowid,)).fetchone()
+            return _user(row)
+
+        return await self.db.write(_create)
+
+    async def get_user(self, user_id: int) -> User | None:
+        row = await self.db.read(
+            lambda c: c.execute("SELECT * FROM users WHERE id = ?", (user_id,)).fetchone()
+        )
+        return _user(row) if row else None
+
+    async def get_user_by_name(self, username: str) -> User | None:
+        row = await self.db.read(
+            lambda c: c.execute("SELECT * FROM users WHERE username = ?", (username,)).fetchone()
+        )
+        return _user(row) if row else None
+
+    async def list_users(self) -> list[User]:
+        rows = await self.db.read(lambda c: c.execute("SELECT * FROM users ORDER BY id").fetchall())
+        return [_user(r) for r in rows]
+
+    async def update_user(
+        self,
+        user_id: int,
+        *,
+        password_hash: str | None = None,
+        is_admin: bool | None = None,
+        groups: list[str] | None = None,
+        disabled: bool | None = None,
+    ) -> User | None:
+        sets: list[str] = []
+        args: list[object] = []
+        for column, value in (
+            ("password_hash", password_hash),
+            ("is_admin", None if is_admin is None else int(is_admin)),
+            ("groups_json", None if groups is None else orjson.dumps(groups).decode()),
+            ("disabled", None if disabled is None else int(disabled)),
+        ):
+            if value is not None:
+                sets.append(f"{column} = ?")
+                args.append(value)
+
+        def _update(c: sqlite3.Connection) -> User | None:
+            if sets:
+                c.execute(f"UPDATE users SET {', '.join(sets)} WHERE id = ?", (*args, user_id))
+            row = c.execute("SELECT * FROM users WHERE id = ?", (user_id,)).fetchone()
+            return _user(row) if row else None
+
+        return await self.db.write(_update)
+
+    async def delete_user(self, user_id: int) -> bool:
+        return await self.db.write(
+            lambda c: c.execute("DELETE FROM users WHERE id = ?", (user_id,)).rowcount > 0
+        )
+
+    async def create_token(
+        self,
+        user_id: int,
+        name: str,
+        token_hash: bytes,
+        prefix: str,
+        kind: str,
+        now_ns: int,
+        expires_ns: int | None,
+    ) -> ApiToken:
+        def _create(c: sqlite3.Connection) -> ApiToken:
+            cur = c.execute(
+                "INSERT INTO api_tokens(user_id, name, token_hash, prefix, kind, created_ns,"
+                " expires_ns) VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (user_id, name, token_hash, prefix, kind, now_ns, expires_ns),
+            )
+            row = c.execute("SELECT * FROM api_tokens WHERE id = ?", (cur.lastrowid,)).fetchone()
+            return _token(row)
+
+        return await self.db.write(_create)
+
+    async def find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None:
+        def _find(c: sqlite3.Connection) -> tuple[ApiToken, User] | None:
+            row = c.execute("SELECT * FROM api_tokens WHERE token_hash = ?", (token_hash,)).fetchone()
+            if row is None:
+                return None
+            user = c.execute("SELECT * FROM users WHERE id = ?", (row["user_id"],)).fetchone()
+            return (_token(row), _user(user)) if user else None
+
+        return await self.db.read(_find)
+
+    async def touch_token(self, token_id: int, now_ns: int) -> None:
+        await self.db.read(
+            lambda c: c.execute(
+                "UPDATE api_tokens SET last_used_ns = ? WHERE id = ?", (now_ns, token_id)
+            )
+        )
+
+    async def list_tokens(self, user_id: int | None) -> list[ApiToken]:
+        def _list(c: sqlite3.Connection) -> list[sqlite3.Row]:
+            if user_id is None:
+                return c.execute("SELECT * FROM api_tokens ORDER BY id").fetchall()
+            return c.execute(
+                "SELECT * FROM api_tokens WHERE user_id = ? ORDER BY id", (user_id,)
+            ).fetchall()
+
+        return [_token(r) for r in await self.db.read(_list)]
+
+    async def get_token(self, token_id: int) -> ApiToken | None:
+        row = await self.db.read(
+            lambda c: c.execute("SELECT * FROM api_tokens WHERE id = ?", (token_id,)).fetchone()
+        )
+        return _token(row) if row else None
+
+    async def revoke_token(self, token_id: int, now_ns: int) -> bool:
+        return await self.db.write(
+            lambda c: c.execute(
+                "UPDATE api_tokens SET revoked_ns = ? WHERE id = ? AND revoked_ns IS NULL",
+                (now_ns, token_id),
+            ).rowcount
+            > 0
+        )
