@@ -38,13 +38,22 @@ def serve(
     sock = socket.socket(socket.AF_INET6 if ":" in settings.host else socket.AF_INET)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((settings.host, settings.port))
+    # Listen before startup so a client that saw "serving at" is queued, never refused.
+    sock.listen(2048)
     if settings.port == 0:
         settings.port = sock.getsockname()[1]
-    app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=on_ready)
+    async def ready(services: Services) -> None:
+        if on_ready is not None:
+            result = on_ready(services)
+            if hasattr(result, "__await__"):
+                await result  # type: ignore[misc]
+        # Scripts and tests wait for this line; keep its wording stable.
+        print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
+
+    app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
     config = uvicorn.Config(
         app, log_level=settings.log_level, access_log=settings.access_log, lifespan="on",
         server_header=False, proxy_headers=False,
     )
     server = uvicorn.Server(config)
-    print(f"twinlink listening on {settings.base_url}", file=sys.stderr, flush=True)
     asyncio.run(server.serve(sockets=[sock]))

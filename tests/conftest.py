@@ -1,0 +1,111 @@
+"""Shared fixtures. Integration tests start a real `twinlink up` process on a random
+loopback port and talk to it with a real HTTP client; the process is stopped afterwards."""
+
+from __future__ import annotations
+
+import os
+import secrets
+import signal
+import socket
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import httpx
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@dataclass
+class Server:
+    url: str
+    data_dir: Path
+    admin_token: str
+    admin_password: str
+    process: subprocess.Popen[bytes]
+    output: list[str] = field(default_factory=list)
+    reader: threading.Thread | None = None
+
+    def client(self, token: str | None = None) -> httpx.Client:
+        headers = {"Authorization": f"Bearer {token}"} if token else {}
+        return httpx.Client(base_url=self.url, headers=headers, timeout=30)
+
+    @property
+    def admin(self) -> httpx.Client:
+        return self.client(self.admin_token)
+
+    def log(self) -> str:
+        return "".join(self.output)
+
+
+def start_server(data_dir: Path, extra_env: dict[str, str] | None = None) -> Server:
+    port = free_port()
+    token = "tl_test_" + secrets.token_urlsafe(24)
+    password = secrets.token_urlsafe(12)
+    env = {
+        **os.environ,
+        "TWINLINK_ADMIN_TOKEN": token,
+        "TWINLINK_ADMIN_PASSWORD": password,
+        "TWINLINK_LOG_LEVEL": "warning",
+        **(extra_env or {}),
+    }
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "twinlink", "up", "--port", str(port), "--data-dir", str(data_dir)],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+    )
+    server = Server(f"http://127.0.0.1:{port}", data_dir, token, password, proc)
+    ready = threading.Event()
+
+    def pump() -> None:
+        assert proc.stdout is not None
+        for raw in proc.stdout:
+            line = raw.decode(errors="replace")
+            server.output.append(line)
+            if line.startswith("twinlink serving at"):
+                ready.set()
+        ready.set()
+
+    server.reader = threading.Thread(target=pump, daemon=True)
+    server.reader.start()
+    # The server prints a line when it serves; wait on that event, not on a fixed sleep.
+    if not ready.wait(timeout=60) or proc.poll() is not None:
+        stop_server(server)
+        raise RuntimeError(f"twinlink did not start:\n{server.log()}")
+    with httpx.Client() as c:
+        assert c.get(f"{server.url}/healthz").status_code == 200
+    return server
+
+
+def stop_server(server: Server) -> None:
+    if server.process.poll() is None:
+        server.process.send_signal(signal.SIGTERM)
+        try:
+            server.process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            server.process.kill()
+            server.process.wait()
+    if server.reader is not None:
+        server.reader.join(timeout=10)
+    if server.process.stdout is not None:
+        server.process.stdout.close()
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    """A fresh server with an empty data dir, shared by the tests of one module."""
+    srv = start_server(tmp_path_factory.mktemp("data"))
+    try:
+        yield srv
+    finally:
+        stop_server(srv)
