@@ -62,7 +62,9 @@ def start_server(data_dir: Path, extra_env: dict[str, str] | None = None) -> Ser
     }
     proc = subprocess.Popen(
         [sys.executable, "-m", "twinlink", "up", "--port", str(port), "--data-dir", str(data_dir)],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
     )
     server = Server(f"http://127.0.0.1:{port}", data_dir, token, password, proc)
     ready = threading.Event()

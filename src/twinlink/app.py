@@ -11,7 +11,7 @@ from fastapi import FastAPI
 from fastapi.responses import ORJSONResponse
 
 from twinlink import __version__
-from twinlink.api import auth, pages, problems, search, system, twins
+from twinlink.api import apidocs, auth, pages, problems, search, system, twins
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.config import Settings
 from twinlink.metrics import Metrics, MetricsMiddleware
@@ -61,7 +61,7 @@ def create_app(
         if on_ready is not None:
             result = on_ready(services)
             if hasattr(result, "__await__"):
-                await result  # type: ignore[misc]
+                await result
         log.info("ready", extra={"event": "ready", "url": settings.base_url})
         try:
             yield
@@ -77,6 +77,9 @@ def create_app(
         "public DT documents.",
         lifespan=lifespan,
         default_response_class=ORJSONResponse,
+        docs_url=None,
+        redoc_url=None,
+        openapi_url=None,  # served by api.apidocs, behind a token
     )
     app.state.settings = settings
     app.state.services = services
@@ -84,5 +87,6 @@ def create_app(
     problems.install(app)
     for module in (system, auth, twins, search, pages):
         app.include_router(module.router)
+    apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)
     return app

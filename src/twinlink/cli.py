@@ -38,10 +38,16 @@ class _Group(click.Group):
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
-@click.option("--url", envvar="TWINLINK_URL", help="Server URL [default: saved by login, "
-              "else http://127.0.0.1:8000]. Env: TWINLINK_URL.")
-@click.option("--token", envvar="TWINLINK_TOKEN", help="API token [default: saved by login]. "
-              "Env: TWINLINK_TOKEN.")
+@click.option(
+    "--url",
+    envvar="TWINLINK_URL",
+    help="Server URL [default: saved by login, else http://127.0.0.1:8000]. Env: TWINLINK_URL.",
+)
+@click.option(
+    "--token",
+    envvar="TWINLINK_TOKEN",
+    help="API token [default: saved by login]. Env: TWINLINK_TOKEN.",
+)
 @click.version_option(package_name="twinlink")
 @click.pass_context
 def main(ctx: click.Context, url: str | None, token: str | None) -> None:
@@ -61,29 +67,44 @@ main.add_command(demo)
 
 @main.command()
 @click.option("-u", "--username", prompt=True, help="User name.")
-@click.option("-p", "--password", prompt=True, hide_input=True, help="Password (prompted if left out).")
+@click.option(
+    "-p", "--password", prompt=True, hide_input=True, help="Password (prompted if left out)."
+)
 @click.pass_context
 def login(ctx: click.Context, username: str, password: str) -> None:
     """Sign in and save a session token for the other commands."""
     client = _client(ctx)
-    answer = client.json("POST", "/api/v1/auth/login", json={"username": username, "password": password})
+    answer = client.json(
+        "POST", "/api/v1/auth/login", json={"username": username, "password": password}
+    )
     path = save_credentials(client.url, answer["token"])
-    click.echo(f"Signed in to {client.url} as {username}; token saved in {path} (expires {answer['expires']}).")
+    click.echo(
+        f"Signed in to {client.url} as {username}; token saved in {path}"
+        f" (expires {answer['expires']})."
+    )
 
 
 def _document_files(paths: tuple[str, ...]) -> list[Path]:
     files: list[Path] = []
     for p in map(Path, paths):
         if p.is_dir():
-            files.extend(sorted(f for f in p.rglob("*") if f.suffix in YAML_SUFFIXES and f.is_file()))
+            files.extend(
+                sorted(f for f in p.rglob("*") if f.suffix in YAML_SUFFIXES and f.is_file())
+            )
         else:
             files.append(p)
     return files
 
 
 @main.command()
-@click.option("-f", "--filename", "paths", multiple=True, required=True,
-              help="A YAML/JSON file, a folder of them, or - for standard input. Repeatable.")
+@click.option(
+    "-f",
+    "--filename",
+    "paths",
+    multiple=True,
+    required=True,
+    help="A YAML/JSON file, a folder of them, or - for standard input. Repeatable.",
+)
 @click.pass_context
 def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
     """Create or update twins from DT documents (idempotent, like kubectl apply)."""
@@ -101,7 +122,9 @@ def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
     for name, body in sources:
         kind = "application/json" if name.endswith(".json") else "application/yaml"
         try:
-            answer = client.json("POST", "/api/v1/apply", content=body, headers={"Content-Type": kind})
+            answer = client.json(
+                "POST", "/api/v1/apply", content=body, headers={"Content-Type": kind}
+            )
         except ClientError as err:
             click.echo(f"{name}: {err}", err=True)
             failed = True
@@ -118,10 +141,13 @@ def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
 @click.option("-n", "--limit", default=20, show_default=True, help="Most hits to show.")
 @click.option("--json", "as_json", is_flag=True, help="Print the raw JSON answer.")
 @click.pass_context
-def search(ctx: click.Context, query: tuple[str, ...], keyword: str | None, limit: int, as_json: bool) -> None:
+def search(
+    ctx: click.Context, query: tuple[str, ...], keyword: str | None, limit: int, as_json: bool
+) -> None:
     """Find twins and the features that match QUERY."""
-    answer = _client(ctx).json("GET", "/api/v1/search",
-                               params={"q": " ".join(query), "keyword": keyword, "limit": limit})
+    answer = _client(ctx).json(
+        "GET", "/api/v1/search", params={"q": " ".join(query), "keyword": keyword, "limit": limit}
+    )
     if as_json:
         _emit(answer, True)
         return

@@ -32,13 +32,18 @@ def twins() -> None:
 @click.option("--mine", is_flag=True, help="Only twins you have a role on.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 @click.pass_context
-def twins_ls(ctx: click.Context, keyword: str | None, name: str | None, mine: bool, as_json: bool) -> None:
+def twins_ls(
+    ctx: click.Context, keyword: str | None, name: str | None, mine: bool, as_json: bool
+) -> None:
     """List the twins you may see (all pages)."""
     client = _client(ctx)
     items, cursor = [], None
     while True:
-        page = client.json("GET", "/api/v1/twins", params={
-            "limit": 500, "cursor": cursor, "keyword": keyword, "q": name, "mine": mine})
+        page = client.json(
+            "GET",
+            "/api/v1/twins",
+            params={"limit": 500, "cursor": cursor, "keyword": keyword, "q": name, "mine": mine},
+        )
         items.extend(page["items"])
         cursor = page["next_cursor"]
         if not cursor:
@@ -52,7 +57,9 @@ def twins_ls(ctx: click.Context, keyword: str | None, name: str | None, mine: bo
 
 @twins.command("get")
 @click.argument("slug")
-@click.option("-o", "--output", type=click.Choice(["yaml", "json"]), default="yaml", show_default=True)
+@click.option(
+    "-o", "--output", type=click.Choice(["yaml", "json"]), default="yaml", show_default=True
+)
 @click.pass_context
 def twins_get(ctx: click.Context, slug: str, output: str) -> None:
     """Print a twin's DT document as you may see it."""
@@ -79,8 +86,11 @@ def twins_rm(ctx: click.Context, slugs: tuple[str, ...], cascade: bool) -> None:
 @click.pass_context
 def twins_tree(ctx: click.Context, slug: str, up: bool, depth: int) -> None:
     """Show the composition tree below (or above) a twin."""
-    node = _client(ctx).json("GET", f"/api/v1/twins/{slug}/relations",
-                             params={"direction": "up" if up else "down", "depth": depth})
+    node = _client(ctx).json(
+        "GET",
+        f"/api/v1/twins/{slug}/relations",
+        params={"direction": "up" if up else "down", "depth": depth},
+    )
 
     def show(n: dict[str, object], indent: int) -> None:
         label = n.get("slug") or f"{n['id']} (not registered here)"
@@ -104,7 +114,9 @@ def users() -> None:
 def users_ls(ctx: click.Context) -> None:
     """List users."""
     for u in _client(ctx).json("GET", "/api/v1/users")["users"]:
-        flags = [x for x in ("admin" if u["is_admin"] else "", "disabled" if u["disabled"] else "") if x]
+        flags = [
+            x for x in ("admin" if u["is_admin"] else "", "disabled" if u["disabled"] else "") if x
+        ]
         click.echo(f"{u['username']:<24} {','.join(u['groups']):<20} {' '.join(flags)}".rstrip())
 
 
@@ -114,10 +126,20 @@ def users_ls(ctx: click.Context) -> None:
 @click.option("--admin", is_flag=True, help="Make the user a platform admin.")
 @click.option("-g", "--group", "groups", multiple=True, help="User group (repeatable).")
 @click.pass_context
-def users_add(ctx: click.Context, username: str, password: str, admin: bool, groups: tuple[str, ...]) -> None:
+def users_add(
+    ctx: click.Context, username: str, password: str, admin: bool, groups: tuple[str, ...]
+) -> None:
     """Create a user."""
-    _client(ctx).json("POST", "/api/v1/users", json={
-        "username": username, "password": password, "is_admin": admin, "groups": list(groups)})
+    _client(ctx).json(
+        "POST",
+        "/api/v1/users",
+        json={
+            "username": username,
+            "password": password,
+            "is_admin": admin,
+            "groups": list(groups),
+        },
+    )
     click.echo(f"created user {username}")
 
 
@@ -128,14 +150,21 @@ def users_add(ctx: click.Context, username: str, password: str, admin: bool, gro
 @click.option("-g", "--group", "groups", multiple=True, help="Replace the user's groups.")
 @click.option("--disable/--enable", "disabled", default=None, help="Disable or enable sign-in.")
 @click.pass_context
-def users_set(ctx: click.Context, username: str, password: str | None, admin: bool | None,
-              groups: tuple[str, ...], disabled: bool | None) -> None:
+def users_set(
+    ctx: click.Context,
+    username: str,
+    password: str | None,
+    admin: bool | None,
+    groups: tuple[str, ...],
+    disabled: bool | None,
+) -> None:
     """Change a user."""
     body: dict[str, object] = {"password": password, "is_admin": admin, "disabled": disabled}
     if groups:
         body["groups"] = list(groups)
-    _client(ctx).json("PATCH", f"/api/v1/users/{username}",
-                      json={k: v for k, v in body.items() if v is not None})
+    _client(ctx).json(
+        "PATCH", f"/api/v1/users/{username}", json={k: v for k, v in body.items() if v is not None}
+    )
     click.echo(f"updated user {username}")
 
 
@@ -162,7 +191,13 @@ def tokens() -> None:
 def tokens_ls(ctx: click.Context, all_users: bool) -> None:
     """List your API tokens (never their secrets)."""
     for t in _client(ctx).json("GET", "/api/v1/tokens", params={"all": all_users})["tokens"]:
-        state = "revoked" if t["revoked"] else f"expires {t['expires']}" if t["expires"] else "no expiry"
+        state = (
+            "revoked"
+            if t["revoked"]
+            else f"expires {t['expires']}"
+            if t["expires"]
+            else "no expiry"
+        )
         click.echo(f"{t['id']:>5}  {t['prefix']}…  {t['name']:<24} {t['kind']:<8} {state}")
 
 
@@ -172,7 +207,9 @@ def tokens_ls(ctx: click.Context, all_users: bool) -> None:
 @click.pass_context
 def tokens_create(ctx: click.Context, name: str, expires_in: int | None) -> None:
     """Create an API token; its secret is printed once."""
-    answer = _client(ctx).json("POST", "/api/v1/tokens", json={"name": name, "expires_in_s": expires_in})
+    answer = _client(ctx).json(
+        "POST", "/api/v1/tokens", json={"name": name, "expires_in_s": expires_in}
+    )
     click.echo(answer["token"])
     click.echo(f"(token {answer['id']} '{name}': shown once, store it now)", err=True)
 

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any, TypeVar
 
 import click
 
@@ -14,13 +16,24 @@ from twinlink.config import load_settings
 from twinlink.domain.errors import ConflictError, DocumentError
 from twinlink.registry.service import parse_documents
 
+F = TypeVar("F", bound=Callable[..., Any])
 
-def _server_options(fn):  # type: ignore[no-untyped-def]
-    fn = click.option("--config", "config_file", type=click.Path(dir_okay=False),
-                      help="TOML settings file. Env: TWINLINK_CONFIG.")(fn)
-    fn = click.option("--data-dir", type=click.Path(file_okay=False, path_type=Path),
-                      help="Data folder. Env: TWINLINK_DATA_DIR [default: ./twinlink-data].")(fn)
-    fn = click.option("--port", type=int, help="TCP port, 0 for any free one. Env: TWINLINK_PORT [default: 8000].")(fn)
+
+def _server_options(fn: F) -> F:
+    fn = click.option(
+        "--config",
+        "config_file",
+        type=click.Path(dir_okay=False),
+        help="TOML settings file. Env: TWINLINK_CONFIG.",
+    )(fn)
+    fn = click.option(
+        "--data-dir",
+        type=click.Path(file_okay=False, path_type=Path),
+        help="Data folder. Env: TWINLINK_DATA_DIR [default: ./twinlink-data].",
+    )(fn)
+    fn = click.option(
+        "--port", type=int, help="TCP port, 0 for any free one. Env: TWINLINK_PORT [default: 8000]."
+    )(fn)
     fn = click.option("--host", help="Bind address. Env: TWINLINK_HOST [default: 127.0.0.1].")(fn)
     return fn
 
@@ -57,15 +70,26 @@ async def load_examples(services: Services, folder: Path) -> list[str]:
 
 @click.command()
 @_server_options
-@click.option("--examples", type=click.Path(file_okay=False, path_type=Path), default=Path("examples"),
-              show_default=True, help="Folder of example DT documents to load.")
-def demo(host: str | None, port: int | None, data_dir: Path | None, config_file: str | None,
-         examples: Path) -> None:
+@click.option(
+    "--examples",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=Path("examples"),
+    show_default=True,
+    help="Folder of example DT documents to load.",
+)
+def demo(
+    host: str | None,
+    port: int | None,
+    data_dir: Path | None,
+    config_file: str | None,
+    examples: Path,
+) -> None:
     """Run the server with the example twins loaded (data in ./.twinlink-demo)."""
     from twinlink.server import print_bootstrap, serve
 
-    settings = load_settings(config_file, host=host, port=port,
-                             data_dir=data_dir or Path(".twinlink-demo"))
+    settings = load_settings(
+        config_file, host=host, port=port, data_dir=data_dir or Path(".twinlink-demo")
+    )
 
     secrets_file = settings.data_dir / "admin-credentials.txt"
 
@@ -75,8 +99,10 @@ def demo(host: str | None, port: int | None, data_dir: Path | None, config_file:
         settings.data_dir.mkdir(parents=True, exist_ok=True)
         fd = os.open(secrets_file, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
         with os.fdopen(fd, "w") as f:
-            f.write(f"username: {created.username}\npassword: {created.password or '(preset)'}\n"
-                    f"token: {created.token or '(preset)'}\n")
+            f.write(
+                f"username: {created.username}\npassword: {created.password or '(preset)'}\n"
+                f"token: {created.token or '(preset)'}\n"
+            )
 
     async def ready(services: Services) -> None:
         loaded = await load_examples(services, examples)
@@ -84,6 +110,8 @@ def demo(host: str | None, port: int | None, data_dir: Path | None, config_file:
             f"\n  Demo twins: {', '.join(loaded) or 'none found in ' + str(examples)}\n"
             f"  Open {settings.base_url}/ (twins) and {settings.base_url}/docs (API).\n"
             f"  Sign in as admin; the password and token are in {secrets_file}.\n"
-            f"  CLI: twinlink --url {settings.base_url} login -u admin\n", err=True)
+            f"  CLI: twinlink --url {settings.base_url} login -u admin\n",
+            err=True,
+        )
 
     serve(settings, on_ready=ready, on_bootstrap=bootstrap)

@@ -44,7 +44,9 @@ class Client:
     def __init__(self, url: str | None, token: str | None, timeout: float = 30.0) -> None:
         saved = saved_credentials()
         self.url = (url or saved.get("url") or DEFAULT_URL).rstrip("/")
-        self.token = token or (saved.get("token") if saved.get("url", self.url) == self.url else None)
+        self.token = token or (
+            saved.get("token") if saved.get("url", self.url) == self.url else None
+        )
         headers = {"Authorization": f"Bearer {self.token}"} if self.token else {}
         self.http = httpx.Client(base_url=self.url, headers=headers, timeout=timeout)
 

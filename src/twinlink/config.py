@@ -24,7 +24,9 @@ class Settings(BaseSettings):
     model_config = SettingsConfigDict(env_prefix="TWINLINK_", extra="forbid")
 
     host: str = Field("127.0.0.1", description="Address the HTTP server binds to.")
-    port: int = Field(8000, ge=0, le=65535, description="TCP port of the HTTP server (0 = any free port).")
+    port: int = Field(
+        8000, ge=0, le=65535, description="TCP port of the HTTP server (0 = any free port)."
+    )
     data_dir: Path = Field(
         Path("./twinlink-data"),
         description="Folder holding the embedded SQLite store and other state; created if missing.",
@@ -50,8 +52,15 @@ class Settings(BaseSettings):
     max_document_bytes: int = Field(
         1_048_576, gt=0, description="Largest DT document (YAML or JSON) accepted, in bytes."
     )
+    public_api_docs: bool = Field(
+        False,
+        description="Serve /openapi.json without a token. The /docs page itself holds no data "
+        "and always asks for a token before it loads the API description.",
+    )
     log_level: str = Field("info", description="Log level: debug, info, warning or error.")
-    log_format: str = Field("json", description="Log line format: json (one object a line) or text.")
+    log_format: str = Field(
+        "json", description="Log line format: json (one object a line) or text."
+    )
     access_log: bool = Field(False, description="Log one line per HTTP request.")
 
     @classmethod

@@ -12,12 +12,18 @@ class Metrics:
     def __init__(self) -> None:
         self.registry = CollectorRegistry(auto_describe=True)
         self.requests = Counter(
-            "twinlink_http_requests", "HTTP requests handled", ["method", "route", "status"],
-            registry=self.registry)
+            "twinlink_http_requests",
+            "HTTP requests handled",
+            ["method", "route", "status"],
+            registry=self.registry,
+        )
         self.latency = Histogram(
-            "twinlink_http_request_duration_seconds", "Time to answer an HTTP request",
-            ["route"], registry=self.registry,
-            buckets=(0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5))
+            "twinlink_http_request_duration_seconds",
+            "Time to answer an HTTP request",
+            ["route"],
+            registry=self.registry,
+            buckets=(0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5),
+        )
         self.twins = Gauge("twinlink_twins", "Twins in the registry", registry=self.registry)
         self.users = Gauge("twinlink_users", "Users", registry=self.registry)
 

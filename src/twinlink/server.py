@@ -42,18 +42,23 @@ def serve(
     sock.listen(2048)
     if settings.port == 0:
         settings.port = sock.getsockname()[1]
+
     async def ready(services: Services) -> None:
         if on_ready is not None:
             result = on_ready(services)
             if hasattr(result, "__await__"):
-                await result  # type: ignore[misc]
+                await result
         # Scripts and tests wait for this line; keep its wording stable.
         print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
 
     app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
     config = uvicorn.Config(
-        app, log_level=settings.log_level, access_log=settings.access_log, lifespan="on",
-        server_header=False, proxy_headers=False,
+        app,
+        log_level=settings.log_level,
+        access_log=settings.access_log,
+        lifespan="on",
+        server_header=False,
+        proxy_headers=False,
     )
     server = uvicorn.Server(config)
     asyncio.run(server.serve(sockets=[sock]))

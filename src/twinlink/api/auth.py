@@ -27,7 +27,9 @@ class Login(BaseModel):
 
 class NewToken(BaseModel):
     name: str = Field(min_length=1, max_length=128, description="what the token is for")
-    expires_in_s: int | None = Field(None, gt=0, description="lifetime in seconds; none = no expiry")
+    expires_in_s: int | None = Field(
+        None, gt=0, description="lifetime in seconds; none = no expiry"
+    )
 
 
 class NewUser(BaseModel):
@@ -45,17 +47,29 @@ class UserChange(BaseModel):
 
 
 def user_view(u: User) -> dict[str, Any]:
-    return {"username": u.username, "is_admin": u.is_admin, "groups": u.groups,
-            "disabled": u.disabled, "created": human_time(u.created_ns)}
+    return {
+        "username": u.username,
+        "is_admin": u.is_admin,
+        "groups": u.groups,
+        "disabled": u.disabled,
+        "created": human_time(u.created_ns),
+    }
 
 
 def token_view(t: ApiToken) -> dict[str, Any]:
     def when(ns: int | None) -> str | None:
         return human_time(ns) if ns is not None else None
 
-    return {"id": t.id, "name": t.name, "prefix": t.prefix, "kind": t.kind,
-            "created": when(t.created_ns), "expires": when(t.expires_ns),
-            "last_used": when(t.last_used_ns), "revoked": when(t.revoked_ns)}
+    return {
+        "id": t.id,
+        "name": t.name,
+        "prefix": t.prefix,
+        "kind": t.kind,
+        "created": when(t.created_ns),
+        "expires": when(t.expires_ns),
+        "last_used": when(t.last_used_ns),
+        "revoked": when(t.revoked_ns),
+    }
 
 
 @router.post("/auth/login", summary="Exchange a username and password for a session token")
@@ -78,7 +92,7 @@ async def me(caller: Caller) -> dict[str, Any]:
 
 
 @router.get("/tokens", summary="The caller's API tokens (admins: everyone's with all=true)")
-async def list_tokens(caller: Caller, auth: Auth, all: bool = False) -> dict[str, Any]:  # noqa: A002
+async def list_tokens(caller: Caller, auth: Auth, all: bool = False) -> dict[str, Any]:
     return {"tokens": [token_view(t) for t in await auth.list_tokens(caller, all)]}
 
 
@@ -106,17 +120,28 @@ async def create_user(body: NewUser, _: Admin, auth: Auth) -> dict[str, Any]:
     return user_view(user)
 
 
-@router.patch("/users/{username}", summary="Change a user (admins; users may change their password)")
-async def update_user(username: str, body: UserChange, caller: Caller, auth: Auth) -> dict[str, Any]:
+@router.patch(
+    "/users/{username}", summary="Change a user (admins; users may change their password)"
+)
+async def update_user(
+    username: str, body: UserChange, caller: Caller, auth: Auth
+) -> dict[str, Any]:
     _may_change(caller, username, body)
-    return user_view(await auth.update_user(
-        username, password=body.password, is_admin=body.is_admin, groups=body.groups,
-        disabled=body.disabled))
+    return user_view(
+        await auth.update_user(
+            username,
+            password=body.password,
+            is_admin=body.is_admin,
+            groups=body.groups,
+            disabled=body.disabled,
+        )
+    )
 
 
 @router.delete("/users/{username}", summary="Delete a user (admins)")
-async def delete_user(username: str, caller: Admin, auth: Auth,
-                      force: Annotated[bool, Query()] = False) -> dict[str, Any]:
+async def delete_user(
+    username: str, caller: Admin, auth: Auth, force: Annotated[bool, Query()] = False
+) -> dict[str, Any]:
     user = await auth.require_user(username)
     if caller.user is not None and user.id == caller.user.id and not force:
         raise ForbiddenError("refusing to delete yourself; pass force=true if you mean it")

@@ -43,12 +43,15 @@ def _negotiate(accept: str) -> str:
 
 async def _serve(slug: str, fmt: str, caller: MaybeCaller, reg: Registry) -> Response:
     twin, doc = await reg.document(caller, slug)
-    headers = {"Vary": "Accept, Authorization", "Link": f'<{reg.canonical_url(twin.slug)}>; rel="canonical"'}
+    headers = {
+        "Vary": "Accept, Authorization",
+        "Link": f'<{reg.canonical_url(twin.slug)}>; rel="canonical"',
+    }
     if caller.user is not None or twin.visibility != "public":
         headers["Cache-Control"] = "private, no-store"
     if fmt == "json":
-        from starlette.responses import Response as Raw
         import orjson
+        from starlette.responses import Response as Raw
 
         return Raw(orjson.dumps(doc), media_type="application/json", headers=headers)
     if fmt == "html":
@@ -56,9 +59,14 @@ async def _serve(slug: str, fmt: str, caller: MaybeCaller, reg: Registry) -> Res
     return Response(dump_yaml(doc), media_type=YAML + "; charset=utf-8", headers=headers)
 
 
-@router.get("/twins/{slug}", summary="The twin's DT document (YAML, JSON or HTML by Accept)",
-            responses={200: {"content": {YAML: {}, "application/json": {}, "text/html": {}}}})
-async def twin_document(slug: str, request: Request, caller: MaybeCaller, reg: Registry) -> Response:
+@router.get(
+    "/twins/{slug}",
+    summary="The twin's DT document (YAML, JSON or HTML by Accept)",
+    responses={200: {"content": {YAML: {}, "application/json": {}, "text/html": {}}}},
+)
+async def twin_document(
+    slug: str, request: Request, caller: MaybeCaller, reg: Registry
+) -> Response:
     return await _serve(slug, _negotiate(request.headers.get("accept", "")), caller, reg)
 
 

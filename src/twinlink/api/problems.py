@@ -17,14 +17,28 @@ from twinlink.registry.service import ForbiddenError
 
 log = logging.getLogger("twinlink.api")
 PROBLEM = "application/problem+json"
-_TITLES = {400: "Bad request", 401: "Unauthorized", 403: "Forbidden", 404: "Not found",
-           405: "Method not allowed", 409: "Conflict", 413: "Content too large",
-           415: "Unsupported media type", 422: "Unprocessable content", 500: "Internal error"}
+_TITLES = {
+    400: "Bad request",
+    401: "Unauthorized",
+    403: "Forbidden",
+    404: "Not found",
+    405: "Method not allowed",
+    409: "Conflict",
+    413: "Content too large",
+    415: "Unsupported media type",
+    422: "Unprocessable content",
+    500: "Internal error",
+}
 
 
 def problem(status: int, detail: str, **extra: Any) -> Response:
-    body = {"type": "about:blank", "title": _TITLES.get(status, "Error"), "status": status,
-            "detail": detail, **extra}
+    body = {
+        "type": "about:blank",
+        "title": _TITLES.get(status, "Error"),
+        "status": status,
+        "detail": detail,
+        **extra,
+    }
     headers = {"WWW-Authenticate": 'Bearer realm="twinlink"'} if status == 401 else None
     return Response(orjson.dumps(body), status_code=status, media_type=PROBLEM, headers=headers)
 
@@ -55,8 +69,9 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(_: Request, exc: RequestValidationError) -> Response:
-        errors = [{"path": ".".join(str(x) for x in e["loc"]), "message": e["msg"]}
-                  for e in exc.errors()]
+        errors = [
+            {"path": ".".join(str(x) for x in e["loc"]), "message": e["msg"]} for e in exc.errors()
+        ]
         summary = "; ".join(f"{e['path']}: {e['message']}" for e in errors[:3])
         return problem(422, f"The request is not valid: {summary}", errors=errors)
 

@@ -30,5 +30,6 @@ async def metrics(request: Request, _: Caller) -> Response:
     store = request.app.state.services.store
     request.app.state.metrics.twins.set(await store.count_twins())
     request.app.state.metrics.users.set(await store.count_users())
-    return Response(generate_latest(request.app.state.metrics.registry),
-                    media_type=CONTENT_TYPE_LATEST)
+    return Response(
+        generate_latest(request.app.state.metrics.registry), media_type=CONTENT_TYPE_LATEST
+    )

@@ -18,7 +18,9 @@ from twinlink.store.records import ROLES, TwinRecord
 router = APIRouter(prefix="/api/v1", tags=["twins"])
 
 
-def summary(reg: RegistryService, twin: TwinRecord, levels: list[str] | None = None) -> dict[str, Any]:
+def summary(
+    reg: RegistryService, twin: TwinRecord, levels: list[str] | None = None
+) -> dict[str, Any]:
     return {
         "slug": twin.slug,
         "id": twin.dt_id,
@@ -40,12 +42,18 @@ async def list_twins(
     reg: Registry,
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     cursor: Annotated[str | None, Query(description="`next_cursor` of the previous page")] = None,
-    keyword: Annotated[str | None, Query(description="only twins with a feature of this keyword")] = None,
+    keyword: Annotated[
+        str | None, Query(description="only twins with a feature of this keyword")
+    ] = None,
     q: Annotated[str | None, Query(description="only twins whose name contains this text")] = None,
     mine: Annotated[bool, Query(description="only twins the caller has a role on")] = False,
 ) -> dict[str, Any]:
     twins = await reg.store.list_twins(
-        caller.visibility, limit=limit + 1, after_slug=cursor, keyword=keyword, name_contains=q,
+        caller.visibility,
+        limit=limit + 1,
+        after_slug=cursor,
+        keyword=keyword,
+        name_contains=q,
         role_user_id=caller.user.id if mine and caller.user else None,
     )
     page = twins[:limit]
@@ -57,7 +65,9 @@ async def list_twins(
 
 @router.post("/twins", status_code=201, summary="Create a twin", openapi_extra=DOCUMENT_BODY)
 async def create_twin(
-    request: Request, caller: Caller, reg: Registry,
+    request: Request,
+    caller: Caller,
+    reg: Registry,
     slug: Annotated[str | None, Query(description="slug to use instead of the derived one")] = None,
 ) -> dict[str, Any]:
     docs = await read_documents(request)
@@ -65,8 +75,11 @@ async def create_twin(
     return _applied(reg, result[0])
 
 
-@router.post("/apply", summary="Create or update twins from documents (idempotent)",
-             openapi_extra=DOCUMENT_BODY)
+@router.post(
+    "/apply",
+    summary="Create or update twins from documents (idempotent)",
+    openapi_extra=DOCUMENT_BODY,
+)
 async def apply(request: Request, caller: Caller, reg: Registry) -> dict[str, Any]:
     docs = await read_documents(request)
     results = await reg.apply(caller, docs)
@@ -78,8 +91,11 @@ async def get_twin(slug: str, caller: Caller, reg: Registry) -> dict[str, Any]:
     twin, document = await reg.document(caller, slug)
     role = await reg.role_of(caller, twin)
     levels = [lv for lv in twin.levels if may_see_level(caller, role, lv)]
-    return {**summary(reg, twin, levels), "role": "admin" if caller.is_admin else role,
-            "document": document}
+    return {
+        **summary(reg, twin, levels),
+        "role": "admin" if caller.is_admin else role,
+        "document": document,
+    }
 
 
 @router.put("/twins/{slug}", summary="Update a twin's document parts", openapi_extra=DOCUMENT_BODY)
@@ -91,7 +107,9 @@ async def update_twin(slug: str, request: Request, caller: Caller, reg: Registry
 
 @router.delete("/twins/{slug}", summary="Delete a twin (and, with cascade, its descendants)")
 async def delete_twin(
-    slug: str, caller: Caller, reg: Registry,
+    slug: str,
+    caller: Caller,
+    reg: Registry,
     cascade: Annotated[bool, Query(description="also delete every descendant")] = False,
 ) -> dict[str, Any]:
     return {"deleted": await reg.delete(caller, slug, cascade)}
@@ -116,7 +134,9 @@ async def delete_part(slug: str, level: str, caller: Caller, reg: Registry) -> d
 
 @router.get("/twins/{slug}/relations", summary="Descendants (down) or ancestors (up) to a depth")
 async def relations(
-    slug: str, caller: Caller, reg: Registry,
+    slug: str,
+    caller: Caller,
+    reg: Registry,
     direction: Literal["down", "up"] = "down",
     depth: Annotated[int, Query(ge=1, le=32)] = 3,
 ) -> dict[str, Any]:
@@ -132,11 +152,15 @@ async def list_roles(slug: str, caller: Caller, reg: Registry) -> dict[str, Any]
     twin, role = await reg.require_twin(caller, slug)
     if not has_role(caller, role, "viewer"):
         raise ForbiddenError(f"seeing the roles of {slug!r} needs a role on it")
-    return {"roles": [{"username": u, "role": r} for _, u, r in await reg.store.list_roles(twin.id)]}
+    return {
+        "roles": [{"username": u, "role": r} for _, u, r in await reg.store.list_roles(twin.id)]
+    }
 
 
 @router.put("/twins/{slug}/roles/{username}", summary="Grant a role (owners only)")
-async def grant_role(slug: str, username: str, body: RoleBody, caller: Caller, reg: Registry) -> dict[str, Any]:
+async def grant_role(
+    slug: str, username: str, body: RoleBody, caller: Caller, reg: Registry
+) -> dict[str, Any]:
     twin, user_id = await _role_target(reg, caller, slug, username)
     await reg.store.set_role(twin.id, user_id, body.role)
     return {"username": username, "role": body.role}
@@ -149,7 +173,9 @@ async def revoke_role(slug: str, username: str, caller: Caller, reg: Registry) -
     return {"username": username, "role": None}
 
 
-async def _role_target(reg: RegistryService, caller: Any, slug: str, username: str) -> tuple[TwinRecord, int]:
+async def _role_target(
+    reg: RegistryService, caller: Any, slug: str, username: str
+) -> tuple[TwinRecord, int]:
     twin, role = await reg.require_twin(caller, slug)
     if not has_role(caller, role, "owner"):
         raise ForbiddenError(f"granting roles on {slug!r} needs the owner role")

@@ -51,7 +51,9 @@ class AuthService:
         self.store = store
         self.session_ttl_ns = session_ttl_s * 1_000_000_000
 
-    async def bootstrap(self, admin_token: str | None, admin_password: str | None) -> Bootstrap | None:
+    async def bootstrap(
+        self, admin_token: str | None, admin_password: str | None
+    ) -> Bootstrap | None:
         """On an empty store, create `admin` with a token; returns the secrets to print once.
 
         A preset `admin_token` (TWINLINK_ADMIN_TOKEN) is also ensured on later starts, so an
@@ -70,7 +72,9 @@ class AuthService:
                 None if admin_password else password,
                 None if admin_token else token,
             )
-            log.info("created the first admin", extra={"event": "bootstrap", "user": ADMIN_USERNAME})
+            log.info(
+                "created the first admin", extra={"event": "bootstrap", "user": ADMIN_USERNAME}
+            )
         elif admin_token and await self.store.find_token(hash_token(admin_token)) is None:
             admin = await self.store.get_user_by_name(ADMIN_USERNAME)
             if admin is not None:

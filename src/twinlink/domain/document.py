@@ -154,7 +154,7 @@ def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]
         part = DocumentPart.model_validate(raw)
     except ValidationError as err:
         for e in err.errors(include_url=False):
-            path = _data_path(raw, e["loc"])
+            path = _data_path(raw, e["loc"], e["type"] == "missing")
             problems.append(source.problem(_message(e), path))
     if part is not None:
         problems.extend(_rules(part, source))
@@ -167,33 +167,44 @@ def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]
 def _rules(part: DocumentPart, source: SourceDocument) -> list[Problem]:
     problems = []
     if not SUPPORTED_VERSION.match(part.version):
-        problems.append(source.problem(
-            f"unsupported version {part.version!r}: twinlink reads dt-document versions 0.x "
-            "and 1.x (\"1.0\", \"0.1\")", ("version",)))
+        problems.append(
+            source.problem(
+                f"unsupported version {part.version!r}: twinlink reads dt-document versions 0.x "
+                'and 1.x ("1.0", "0.1")',
+                ("version",),
+            )
+        )
     if not PRIVACY_LEVEL.match(part.privacy):
-        problems.append(source.problem(
-            "privacy must be public, private or a group name (letters, digits, . _ : -)",
-            ("privacy",)))
+        problems.append(
+            source.problem(
+                "privacy must be public, private or a group name (letters, digits, . _ : -)",
+                ("privacy",),
+            )
+        )
     if part.id and part.dt_id and part.id != part.dt_id:
         problems.append(source.problem("`id` and `dt-id` name different twins", ("dt-id",)))
-    for section, items in (("features", part.features), ("relations", None)):
-        if items is None:
-            continue
-        seen: dict[str, int] = {}
-        for i, item in enumerate(items):
-            if item.name in seen:
-                problems.append(source.problem(
-                    f"duplicate feature name {item.name!r} (first at features[{seen[item.name]}])",
-                    (section, i, "name")))
-            seen.setdefault(item.name, i)
+    seen: dict[str, int] = {}
+    for i, feature in enumerate(part.features):
+        if feature.name in seen:
+            first = seen[feature.name]
+            problems.append(
+                source.problem(
+                    f"duplicate feature name {feature.name!r} (first at features[{first}])",
+                    ("features", i, "name"),
+                )
+            )
+        seen.setdefault(feature.name, i)
     if part.interface is not None:
         for section in ("signals", "properties", "commands"):
             names: set[str] = set()
             for i, item in enumerate(getattr(part.interface, section)):
                 if item.name in names:
-                    problems.append(source.problem(
-                        f"duplicate {section[:-1]} name {item.name!r}",
-                        ("interface", section, i, "name")))
+                    problems.append(
+                        source.problem(
+                            f"duplicate {section[:-1]} name {item.name!r}",
+                            ("interface", section, i, "name"),
+                        )
+                    )
                 names.add(item.name)
     return problems
 
@@ -208,24 +219,27 @@ def _normalised(raw: dict[str, Any], part: DocumentPart) -> dict[str, Any]:
     return out
 
 
-def _data_path(raw: Any, loc: tuple[int | str, ...]) -> Path:
-    """Pydantic locations name union members (`str`, `Party`); keep only real keys."""
+_ALIASES = {"dt_id": "dt-id", "hosting_iri": "hosting-iri"}
+
+
+def _has(node: Any, key: str | int) -> bool:
+    if isinstance(node, dict):
+        return key in node
+    return isinstance(node, list) and isinstance(key, int) and 0 <= key < len(node)
+
+
+def _data_path(raw: Any, loc: tuple[int | str, ...], missing: bool) -> Path:
+    """Pydantic locations also name union members (`str`, `Party`); keep only real keys.
+    For a missing key, the path ends with its name so the message can point at the parent."""
     path: list[str | int] = []
     node = raw
-    aliases = {"dt_id": "dt-id", "hosting_iri": "hosting-iri"}
-    for part in loc:
-        key = aliases.get(part, part) if isinstance(part, str) else part
-        if isinstance(node, dict) and key in node:
+    for i, part in enumerate(loc):
+        key = _ALIASES.get(part, part) if isinstance(part, str) else part
+        if _has(node, key):
             node = node[key]
             path.append(key)
-        elif isinstance(node, list) and isinstance(key, int) and 0 <= key < len(node):
-            node = node[key]
+        elif missing and i == len(loc) - 1:
             path.append(key)
-        elif isinstance(node, dict) and isinstance(key, str) and key[:1].islower() and key not in (
-            "str", "int", "float", "bool", "list", "dict", "literal"
-        ) and not key.startswith(("function-", "literal[")):
-            path.append(key)  # a missing key: point at its parent, name it in the path
-            break
     return tuple(path)
 
 
@@ -237,7 +251,7 @@ def _message(e: Any) -> str:
         return str(e["msg"]).replace("Input should be", "must be")
     msg = str(e["msg"])
     if msg.startswith("Value error, "):
-        msg = msg[len("Value error, "):]
+        msg = msg[len("Value error, ") :]
     got = e.get("input")
     if kind.endswith("_type") and not isinstance(got, dict | list):
         return f"{msg} (got {got!r})"

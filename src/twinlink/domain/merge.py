@@ -50,7 +50,11 @@ def _merge_into(target: dict[str, Any], source: dict[str, Any], top: bool = Fals
             merged = dict(old)
             for section, items in value.items():
                 prior = merged.get(section)
-                if section in _INTERFACE_LISTS and isinstance(prior, list) and isinstance(items, list):
+                if (
+                    section in _INTERFACE_LISTS
+                    and isinstance(prior, list)
+                    and isinstance(items, list)
+                ):
                     merged[section] = _merge_named(prior, items)
                 else:
                     merged[section] = items

@@ -15,14 +15,17 @@ def slugify(text: str) -> str:
     return slug[:64].strip("-")
 
 
-def slug_for(explicit: str | None, hosting_iri: str | None, dt_id: str | None, name: str | None) -> str:
+def slug_for(
+    explicit: str | None, hosting_iri: str | None, dt_id: str | None, name: str | None
+) -> str:
     """The slug a document asks for: `slug`, else the last path segment of `hosting-iri` or the
     id, else the name."""
     if explicit:
         return explicit
     for iri in (hosting_iri, dt_id):
         if iri:
-            segment = urlparse(iri).path.rstrip("/").rsplit("/", 1)[-1]
+            # The last path segment of a URL; for a URN (urn:uuid:...) its last part.
+            segment = urlparse(iri).path.rstrip("/").rsplit("/", 1)[-1].rsplit(":", 1)[-1]
             if slugify(segment):
                 return slugify(segment)
     return slugify(name or "")

@@ -19,10 +19,10 @@ _Base: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 Path = tuple[str | int, ...]
 
 
-class _Loader(_Base):  # type: ignore[misc,valid-type]
+class _Loader(_Base):  # type: ignore[misc]
     """SafeLoader without the timestamp resolver."""
 
-    yaml_implicit_resolvers = {
+    yaml_implicit_resolvers = {  # noqa: RUF012 - overrides PyYAML's class attribute
         first: [(tag, rx) for tag, rx in resolvers if tag != "tag:yaml.org,2002:timestamp"]
         for first, resolvers in _Base.yaml_implicit_resolvers.items()
     }
@@ -78,7 +78,8 @@ def _record(node: yaml.Node, path: Path, marks: dict[Path, tuple[int, int]]) -> 
 
 
 def parse_yaml_stream(text: str) -> list[SourceDocument]:
-    """Parse every document of a YAML stream; a syntax error raises DocumentError naming the line."""
+    """Parse every document of a YAML stream; a syntax error raises DocumentError
+    naming the line."""
     loader = _Loader(text)
     docs: list[SourceDocument] = []
     try:

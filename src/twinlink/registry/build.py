@@ -9,11 +9,26 @@ from twinlink.domain.document import DocumentPart
 from twinlink.domain.merge import level_order
 from twinlink.store.records import Edge, SearchRow
 
-_TWIN_TEXT_KEYS = ("owner", "manufacturer", "contact", "location", "hosting-iri", "apiGatewayAddress")
+_TWIN_TEXT_KEYS = (
+    "owner",
+    "manufacturer",
+    "contact",
+    "location",
+    "hosting-iri",
+    "apiGatewayAddress",
+)
 _FEATURE_TEXT_KEYS = ("requirement", "address", "apiAddress", "documentation")
 _NOT_SEARCHED = {
-    "version", "privacy", "id", "dt-id", "name", "description", "relations", "features",
-    "interface", "slug",
+    "version",
+    "privacy",
+    "id",
+    "dt-id",
+    "name",
+    "description",
+    "relations",
+    "features",
+    "interface",
+    "slug",
 }
 
 
@@ -29,8 +44,10 @@ def declared_edges(dt_id: str, parts: dict[str, DocumentPart]) -> list[Edge]:
                 key = (dt_id, "parent", other)
             else:
                 key = (min(dt_id, other), "sibling", max(dt_id, other))
-            edges.setdefault(key, Edge(key[0], "parent" if key[1] == "parent" else "sibling",
-                                       key[2], dt_id, level))
+            edges.setdefault(
+                key,
+                Edge(key[0], "parent" if key[1] == "parent" else "sibling", key[2], dt_id, level),
+            )
     return list(edges.values())
 
 
@@ -39,34 +56,41 @@ def search_rows(parts: dict[str, dict[str, Any]]) -> list[SearchRow]:
     rows = []
     for level, doc in parts.items():
         extra = [_text(doc.get(k)) for k in _TWIN_TEXT_KEYS]
-        extra += [_text(v) for k, v in doc.items() if k not in _NOT_SEARCHED and k not in _TWIN_TEXT_KEYS]
+        extra += [
+            _text(v) for k, v in doc.items() if k not in _NOT_SEARCHED and k not in _TWIN_TEXT_KEYS
+        ]
         interface = doc.get("interface")
         if isinstance(interface, dict):
             extra.append(_text(interface))
-        rows.append(SearchRow(
-            privacy=level,
-            feature=None,
-            name=_text(doc.get("name")),
-            description=_text(doc.get("description")),
-            keywords=[],
-            extra=" ".join(x for x in extra if x),
-        ))
+        rows.append(
+            SearchRow(
+                privacy=level,
+                feature=None,
+                name=_text(doc.get("name")),
+                description=_text(doc.get("description")),
+                keywords=[],
+                extra=" ".join(x for x in extra if x),
+            )
+        )
         for feature in doc.get("features") or []:
             if not isinstance(feature, dict):
                 continue
             keywords = feature.get("keywords") or []
             if isinstance(keywords, str):
                 keywords = [keywords]
-            custom = [_text(v) for k, v in feature.items()
-                      if k not in ("name", "description", "keywords")]
-            rows.append(SearchRow(
-                privacy=level,
-                feature=str(feature.get("name")),
-                name=str(feature.get("name")),
-                description=_text(feature.get("description")),
-                keywords=[str(k) for k in keywords],
-                extra=" ".join(x for x in custom if x),
-            ))
+            custom = [
+                _text(v) for k, v in feature.items() if k not in ("name", "description", "keywords")
+            ]
+            rows.append(
+                SearchRow(
+                    privacy=level,
+                    feature=str(feature.get("name")),
+                    name=str(feature.get("name")),
+                    description=_text(feature.get("description")),
+                    keywords=[str(k) for k in keywords],
+                    extra=" ".join(x for x in custom if x),
+                )
+            )
     return rows
 
 
@@ -108,5 +132,6 @@ def imported_created_ns(raw: dict[str, Any]) -> int | None:
             return None
         if moment.tzinfo is None:
             moment = moment.replace(tzinfo=UTC)
-        return int(moment.timestamp() * 1_000_000_000)
+        whole = moment.replace(microsecond=0)
+        return int(whole.timestamp()) * 1_000_000_000 + moment.microsecond * 1000
     return None

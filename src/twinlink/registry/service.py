@@ -47,7 +47,8 @@ def parse_documents(body: bytes, content_type: str, max_bytes: int) -> list[Sour
     """YAML (one or many documents) or JSON (an object or a list of objects)."""
     if len(body) > max_bytes:
         raise DocumentError(
-            f"The document is {len(body)} bytes; the limit is {max_bytes} (TWINLINK_MAX_DOCUMENT_BYTES)."
+            f"The document is {len(body)} bytes; the limit is {max_bytes}"
+            " (TWINLINK_MAX_DOCUMENT_BYTES)."
         )
     try:
         text = body.decode("utf-8")
@@ -57,8 +58,10 @@ def parse_documents(body: bytes, content_type: str, max_bytes: int) -> list[Sour
         try:
             data = orjson.loads(body)
         except orjson.JSONDecodeError as err:
-            raise DocumentError("The document is not valid JSON; nothing was stored.",
-                                [Problem(err.msg, line=err.lineno, column=err.colno)]) from err
+            raise DocumentError(
+                "The document is not valid JSON; nothing was stored.",
+                [Problem(err.msg, line=err.lineno, column=err.colno)],
+            ) from err
         items = data if isinstance(data, list) else [data]
         try:
             # JSON is YAML: parsing it again gives the line and column of every value.
@@ -66,10 +69,15 @@ def parse_documents(body: bytes, content_type: str, max_bytes: int) -> list[Sour
             marks = marked.marks if isinstance(data, dict) else {}
         except (DocumentError, IndexError):
             marks = {}
-        return [SourceDocument(item, marks if len(items) == 1 else {}, i) for i, item in enumerate(items)]
+        return [
+            SourceDocument(item, marks if len(items) == 1 else {}, i)
+            for i, item in enumerate(items)
+        ]
     docs = parse_yaml_stream(text)
     if not docs:
-        raise DocumentError("The request holds no document.", [Problem("empty body", line=1, column=1)])
+        raise DocumentError(
+            "The request holds no document.", [Problem("empty body", line=1, column=1)]
+        )
     return docs
 
 
@@ -114,17 +122,27 @@ class RegistryService:
             except DocumentError as err:
                 problems.extend(err.problems)
                 continue
-            key = part.global_id or slug or raw.get("slug") or slug_for(
-                None, part.hosting_iri, None, part.name)
+            key = (
+                part.global_id
+                or slug
+                or raw.get("slug")
+                or slug_for(None, part.hosting_iri, None, part.name)
+            )
             if not key:
-                problems.append(source.problem(
-                    "the twin has no `id`/`dt-id` and no name to derive its slug from"))
+                problems.append(
+                    source.problem(
+                        "the twin has no `id`/`dt-id` and no name to derive its slug from"
+                    )
+                )
                 continue
             group = groups.setdefault(str(key), _Group(str(key), {}))
             if part.privacy in group.parts:
-                problems.append(source.problem(
-                    f"a second {part.privacy!r} part for the same twin in one request",
-                    ("privacy",)))
+                problems.append(
+                    source.problem(
+                        f"a second {part.privacy!r} part for the same twin in one request",
+                        ("privacy",),
+                    )
+                )
                 continue
             group.parts[part.privacy] = (part, raw, source)
         if problems:
@@ -135,33 +153,42 @@ class RegistryService:
 
     async def _plan(
         self, principal: Principal, group: _Group, slug: str | None, mode: str
-    ) -> tuple[TwinRecord | None, str, str, dict[str, dict[str, Any]], dict[str, DocumentPart], int]:
+    ) -> tuple[
+        TwinRecord | None, str, str, dict[str, dict[str, Any]], dict[str, DocumentPart], int
+    ]:
         first = next(iter(group.parts.values()))
-        part, raw, source = first
+        part, _, source = first
         dt_id = next((p.global_id for p, _, _ in group.parts.values() if p.global_id), None)
-        explicit = slug or next((r.get("slug") for _, r, _ in group.parts.values() if r.get("slug")), None)
+        explicit = slug or next(
+            (r.get("slug") for _, r, _ in group.parts.values() if r.get("slug")), None
+        )
         existing = await self.store.get_twin_by_dt_id(dt_id) if dt_id else None
         if existing is None and explicit:
             existing = await self.store.get_twin(str(explicit))
             if existing is not None and dt_id and existing.dt_id != dt_id:
                 raise ConflictError(
-                    f"the slug {explicit!r} belongs to another twin ({existing.dt_id})")
+                    f"the slug {explicit!r} belongs to another twin ({existing.dt_id})"
+                )
         if existing is None and not dt_id:
             candidate = slug_for(explicit, part.hosting_iri, None, part.name)
             existing = await self.store.get_twin(candidate)
         if mode == "create" and existing is not None:
-            raise ConflictError(f"the twin {existing.slug!r} already exists; use apply or PUT to change it")
+            raise ConflictError(
+                f"the twin {existing.slug!r} already exists; use apply or PUT to change it"
+            )
         if mode == "update" and existing is None:
             raise NotFoundError(f"no twin {slug!r}")
         if existing is not None and slug is not None and existing.slug != slug:
-            raise ConflictError(f"the document's id {dt_id!r} belongs to the twin {existing.slug!r}, not {slug!r}")
+            raise ConflictError(
+                f"the document's id {dt_id!r} belongs to the twin {existing.slug!r}, not {slug!r}"
+            )
 
         if existing is not None:
             role = await self.store.get_role(existing.id, principal.user.id)  # type: ignore[union-attr]
             if not has_role(principal, role, "editor"):
                 raise ForbiddenError(f"changing {existing.slug!r} needs the editor role")
             new_slug = existing.slug if not explicit else str(explicit)
-            dt_id = existing.dt_id if not dt_id else dt_id
+            dt_id = dt_id or existing.dt_id
             parts = await self.store.get_parts(existing.id)
             created = existing.created_ns
         else:
@@ -173,8 +200,15 @@ class RegistryService:
             imported = [imported_created_ns(src.data) for _, _, src in group.parts.values()]
             created = next((c for c in imported if c is not None), time.time_ns())
         if not SLUG.match(new_slug):
-            raise DocumentError("The document has problems; nothing was stored.", [source.problem(
-                f"slug {new_slug!r} must be 1-64 lowercase letters, digits and dashes", ("slug",))])
+            raise DocumentError(
+                "The document has problems; nothing was stored.",
+                [
+                    source.problem(
+                        f"slug {new_slug!r} must be 1-64 lowercase letters, digits and dashes",
+                        ("slug",),
+                    )
+                ],
+            )
         for level, (_, body, _) in group.parts.items():
             parts[level] = body
         models = {level: validate_part(SourceDocument(body))[0] for level, body in parts.items()}
@@ -201,32 +235,52 @@ class RegistryService:
         await self._refuse_cycles(dt_id, edges)
         if existing is not None:
             old_parts = await self.store.get_parts(existing.id)
-            old_edges = [e for e in await self.store.edges_touching([dt_id]) if e.declared_by == dt_id]
-            if (old_parts == parts and existing.slug == slug
-                    and _edge_keys(old_edges) == _edge_keys(edges)):
+            old_edges = [
+                e for e in await self.store.edges_touching([dt_id]) if e.declared_by == dt_id
+            ]
+            if (
+                old_parts == parts
+                and existing.slug == slug
+                and _edge_keys(old_edges) == _edge_keys(edges)
+            ):
                 return Applied(existing, "unchanged", sorted(parts))
         # The spec's split documents name the twin in one part only (usually the public one);
         # until that part arrives, the slug stands in for the name.
         name = _public_name(parts) or slug
-        record = await self.store.save_twin(TwinWrite(
-            slug=slug, dt_id=dt_id, name=name, created_ns=created_ns, modified_ns=time.time_ns(),
-            parts=parts, edges=edges, search_rows=search_rows(parts),
-            owner_user_id=principal.user.id if existing is None and principal.user else None,
-            twin_id=existing.id if existing else None,
-        ))
+        record = await self.store.save_twin(
+            TwinWrite(
+                slug=slug,
+                dt_id=dt_id,
+                name=name,
+                created_ns=created_ns,
+                modified_ns=time.time_ns(),
+                parts=parts,
+                edges=edges,
+                search_rows=search_rows(parts),
+                owner_user_id=principal.user.id if existing is None and principal.user else None,
+                twin_id=existing.id if existing else None,
+            )
+        )
         return Applied(record, "created" if existing is None else "updated", sorted(parts))
 
     async def _refuse_cycles(self, dt_id: str, declared: list[Edge]) -> None:
         others = [e for e in await self.store.edges_touching([dt_id]) if e.declared_by != dt_id]
-        parents = {e.source for e in [*others, *declared] if e.kind == "parent" and e.target == dt_id}
-        children = {e.target for e in [*others, *declared] if e.kind == "parent" and e.source == dt_id}
+        parents = {
+            e.source for e in [*others, *declared] if e.kind == "parent" and e.target == dt_id
+        }
+        children = {
+            e.target for e in [*others, *declared] if e.kind == "parent" and e.source == dt_id
+        }
         if dt_id in parents | children:
             raise ConflictError("a twin cannot be its own parent or child")
-        loop = parents & (await self.store.descendants(children, exclude=dt_id) if children else set())
+        loop = parents & (
+            await self.store.descendants(children, exclude=dt_id) if children else set()
+        )
         if loop:
             raise ConflictError(
                 f"the relations would make a composition cycle: {sorted(loop)[0]} would be both "
-                f"an ancestor and a descendant of {dt_id}")
+                f"an ancestor and a descendant of {dt_id}"
+            )
 
     # -- read ----------------------------------------------------------------------------
 
@@ -248,10 +302,16 @@ class RegistryService:
 
     async def document(self, principal: Principal, slug: str) -> tuple[TwinRecord, dict[str, Any]]:
         twin, role = await self.require_twin(principal, slug)
-        parts = {k: v for k, v in (await self.store.get_parts(twin.id)).items()
-                 if may_see_level(principal, role, k)}
-        edges = [e for e in await self.store.edges_touching([twin.dt_id])
-                 if may_see_level(principal, role, e.privacy)]
+        parts = {
+            k: v
+            for k, v in (await self.store.get_parts(twin.id)).items()
+            if may_see_level(principal, role, k)
+        }
+        edges = [
+            e
+            for e in await self.store.edges_touching([twin.dt_id])
+            if may_see_level(principal, role, e.privacy)
+        ]
         return twin, render_document(twin, parts, edges, self.canonical_url(twin.slug))
 
     async def part(self, principal: Principal, slug: str, level: str) -> dict[str, Any]:
@@ -273,8 +333,11 @@ class RegistryService:
                 raise ConflictError("the last part of a twin cannot be removed; delete the twin")
             del parts[level]
             models = {k: validate_part(SourceDocument(v))[0] for k, v in parts.items()}
-            return (await self._write(principal, twin, twin.slug, twin.dt_id, parts, models,
-                                      twin.created_ns)).twin
+            return (
+                await self._write(
+                    principal, twin, twin.slug, twin.dt_id, parts, models, twin.created_ns
+                )
+            ).twin
 
     # -- delete --------------------------------------------------------------------------
 
@@ -285,17 +348,25 @@ class RegistryService:
                 raise ForbiddenError(f"deleting {slug!r} needs the owner role")
             doomed = [twin]
             descendants = await self.store.descendants(
-                [e.target for e in await self.store.edges_touching([twin.dt_id])
-                 if e.kind == "parent" and e.source == twin.dt_id], exclude=twin.dt_id)
+                [
+                    e.target
+                    for e in await self.store.edges_touching([twin.dt_id])
+                    if e.kind == "parent" and e.source == twin.dt_id
+                ],
+                exclude=twin.dt_id,
+            )
             registered = await self.store.get_twins_by_dt_ids(descendants)
             if registered and not cascade:
                 names = ", ".join(sorted(t.slug for t in registered.values()))
                 raise ConflictError(
-                    f"{slug!r} has children ({names}); delete them first or ask for cascade=true")
+                    f"{slug!r} has children ({names}); delete them first or ask for cascade=true"
+                )
             for child in registered.values():
                 child_role = await self.role_of(principal, child)
                 if not has_role(principal, child_role, "owner"):
-                    raise ForbiddenError(f"deleting {child.slug!r} (a descendant) needs the owner role")
+                    raise ForbiddenError(
+                        f"deleting {child.slug!r} (a descendant) needs the owner role"
+                    )
                 doomed.append(child)
             await self.store.delete_twins(doomed)
             return [t.slug for t in doomed]
@@ -334,7 +405,9 @@ class RegistryService:
             frontier = nxt
         return root
 
-    async def _node(self, principal: Principal, dt_id: str, twin: TwinRecord | None) -> dict[str, Any] | None:
+    async def _node(
+        self, principal: Principal, dt_id: str, twin: TwinRecord | None
+    ) -> dict[str, Any] | None:
         if twin is None:
             return {"id": dt_id, "registered": False, "nodes": []}
         role = await self.role_of(principal, twin)

@@ -27,7 +27,12 @@ class MetadataStore(Protocol):
     # users and tokens
     async def count_users(self) -> int: ...
     async def create_user(
-        self, username: str, password_hash: str | None, is_admin: bool, groups: list[str], now_ns: int
+        self,
+        username: str,
+        password_hash: str | None,
+        is_admin: bool,
+        groups: list[str],
+        now_ns: int,
     ) -> User: ...
     async def get_user(self, user_id: int) -> User | None: ...
     async def get_user_by_name(self, username: str) -> User | None: ...
@@ -43,7 +48,13 @@ class MetadataStore(Protocol):
     ) -> User | None: ...
     async def delete_user(self, user_id: int) -> bool: ...
     async def create_token(
-        self, user_id: int, name: str, token_hash: bytes, prefix: str, kind: str, now_ns: int,
+        self,
+        user_id: int,
+        name: str,
+        token_hash: bytes,
+        prefix: str,
+        kind: str,
+        now_ns: int,
         expires_ns: int | None,
     ) -> ApiToken: ...
     async def find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None: ...
@@ -78,6 +89,12 @@ class MetadataStore(Protocol):
 
     # search
     async def search(
-        self, vis: Visibility, terms: list[str], *, keyword: str | None, limit: int, offset: int,
+        self,
+        vis: Visibility,
+        terms: list[str],
+        *,
+        keyword: str | None,
+        limit: int,
+        offset: int,
         facet_limit: int = 25,
     ) -> SearchResult: ...

@@ -92,8 +92,6 @@ class Visibility:
     groups: tuple[str, ...] = ()
 
 
-
-
 @dataclass(slots=True)
 class SearchResult:
     total: int

@@ -3,24 +3,19 @@
 from __future__ import annotations
 
 from html import escape
+from importlib import resources
 from typing import Any
 from urllib.parse import urlparse
 
-_STYLE = """
-body{font:15px/1.5 system-ui,sans-serif;margin:0;color:#1b1f24;background:#f6f7f9}
-header{background:#12355b;color:#fff;padding:12px 24px}header a{color:#fff;text-decoration:none}
-main{max-width:960px;margin:24px auto;padding:0 24px}
-section{background:#fff;border:1px solid #dde1e6;border-radius:8px;padding:16px 20px;margin:0 0 16px}
-h1{margin:0 0 4px}dt{font-weight:600;color:#4a5562}dd{margin:0 0 8px}
-.kw{display:inline-block;background:#e8eef7;border-radius:10px;padding:0 8px;margin:2px;font-size:13px}
-.muted{color:#6b7683}table{border-collapse:collapse}td,th{padding:4px 10px;text-align:left;border-bottom:1px solid #eee}
-"""
+_STYLE = (resources.files("twinlink.web") / "page.css").read_text("utf-8")
 
 
 def _link(value: str) -> str:
     scheme = urlparse(value).scheme
     if scheme in ("http", "https"):
-        return f'<a href="{escape(value, quote=True)}" rel="noopener noreferrer">{escape(value)}</a>'
+        return (
+            f'<a href="{escape(value, quote=True)}" rel="noopener noreferrer">{escape(value)}</a>'
+        )
     return escape(value)
 
 
@@ -53,8 +48,10 @@ def twin_page(doc: dict[str, Any], slug: str) -> str:
     )
     features = "".join(_feature(f) for f in doc.get("features") or [] if isinstance(f, dict))
     relations = "".join(
-        f"<li>{escape(str(r.get('relationType')))}: {_link(str(r.get('id') or r.get('dt-id')))}</li>"
-        for r in doc.get("relations") or [] if isinstance(r, dict)
+        f"<li>{escape(str(r.get('relationType')))}: "
+        f"{_link(str(r.get('id') or r.get('dt-id')))}</li>"
+        for r in doc.get("relations") or []
+        if isinstance(r, dict)
     )
     interface = doc.get("interface")
     body = (
@@ -73,10 +70,11 @@ def twin_page(doc: dict[str, Any], slug: str) -> str:
 
 
 def _feature(f: dict[str, Any]) -> str:
-    keywords = "".join(f'<span class=kw>{escape(str(k))}</span>' for k in f.get("keywords") or [])
+    keywords = "".join(f"<span class=kw>{escape(str(k))}</span>" for k in f.get("keywords") or [])
     rest = "".join(
         f"<dt>{escape(str(k))}</dt><dd>{_value(v)}</dd>"
-        for k, v in f.items() if k not in ("name", "description", "keywords")
+        for k, v in f.items()
+        if k not in ("name", "description", "keywords")
     )
     return (
         f"<h3>{escape(str(f.get('name')))}</h3><p>{escape(str(f.get('description') or ''))}</p>"
@@ -90,13 +88,21 @@ def index_page(twins: list[dict[str, Any]], signed_in: bool) -> str:
         f"<td class=muted>{escape(t['id'])}</td></tr>"
         for t in twins
     )
-    note = "" if signed_in else (
-        "<p class=muted>Showing public twins. Sign in through the API "
-        "(<code>POST /api/v1/auth/login</code> or <code>twinlink login</code>) to see more.</p>"
+    note = (
+        ""
+        if signed_in
+        else (
+            "<p class=muted>Showing public twins. Sign in through the API "
+            "(<code>POST /api/v1/auth/login</code> or <code>twinlink login</code>) to see more.</p>"
+        )
     )
-    return page("Digital twins", (
-        "<section><h1>Digital twins</h1>" + note +
-        f"<table><tr><th>Name</th><th>Id</th></tr>{rows}</table></section>"
-        '<section><h2>API</h2><p><a href="/docs">Interactive API documentation</a> · '
-        '<a href="/openapi.json">OpenAPI</a> · <a href="/healthz">health</a></p></section>'
-    ))
+    return page(
+        "Digital twins",
+        (
+            "<section><h1>Digital twins</h1>"
+            + note
+            + f"<table><tr><th>Name</th><th>Id</th></tr>{rows}</table></section>"
+            '<section><h2>API</h2><p><a href="/docs">Interactive API documentation</a> · '
+            '<a href="/openapi.json">OpenAPI</a> · <a href="/healthz">health</a></p></section>'
+        ),
+    )

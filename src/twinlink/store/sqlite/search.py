@@ -50,7 +50,9 @@ def write_search_rows(c: sqlite3.Connection, twin_id: int, rows: list[SearchRow]
 class _Twin:
     score: float = 0.0
     terms: set[int] = field(default_factory=set)
-    rows: dict[int, tuple[str | None, str]] = field(default_factory=dict)  # rowid -> feature, privacy
+    rows: dict[int, tuple[str | None, str]] = field(
+        default_factory=dict
+    )  # rowid -> feature, privacy
 
 
 class SearchTables:
@@ -86,7 +88,8 @@ def _search(
         kw_sql = (
             " AND s.twin_id IN (SELECT s2.twin_id FROM search_rows s2 JOIN search_keywords k"
             " ON k.row_id = s2.id WHERE k.keyword = ? AND "
-            + part_visible(vis, "s2.twin_id", "s2.privacy")[0] + ")"
+            + part_visible(vis, "s2.twin_id", "s2.privacy")[0]
+            + ")"
         )
         kw_args = [keyword, *part_visible(vis, "s2.twin_id", "s2.privacy")[1]]
 

@@ -50,15 +50,17 @@ class TwinTables:
 
     async def get_twin(self, slug: str) -> TwinRecord | None:
         row = await self.db.read(
-            lambda c: c.execute(f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.slug = ?", (slug,))
-            .fetchone()
+            lambda c: c.execute(
+                f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.slug = ?", (slug,)
+            ).fetchone()
         )
         return _twin(row) if row else None
 
     async def get_twin_by_dt_id(self, dt_id: str) -> TwinRecord | None:
         row = await self.db.read(
-            lambda c: c.execute(f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.dt_id = ?", (dt_id,))
-            .fetchone()
+            lambda c: c.execute(
+                f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.dt_id = ?", (dt_id,)
+            ).fetchone()
         )
         return _twin(row) if row else None
 
@@ -86,8 +88,10 @@ class TwinTables:
         role_user_id: int | None = None,
     ) -> list[TwinRecord]:
         where, args = part_visible(vis, "p.twin_id", "p.privacy")
-        sql = [f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE EXISTS"
-               f" (SELECT 1 FROM twin_parts p WHERE p.twin_id = t.id AND {where})"]
+        sql = [
+            f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE EXISTS"
+            f" (SELECT 1 FROM twin_parts p WHERE p.twin_id = t.id AND {where})"
+        ]
         if after_slug is not None:
             sql.append("AND t.slug > ?")
             args.append(after_slug)
@@ -96,7 +100,9 @@ class TwinTables:
             escaped = name_contains.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
             args.append(f"%{escaped}%")
         if role_user_id is not None:
-            sql.append("AND EXISTS (SELECT 1 FROM twin_roles r WHERE r.twin_id = t.id AND r.user_id = ?)")
+            sql.append(
+                "AND EXISTS (SELECT 1 FROM twin_roles r WHERE r.twin_id = t.id AND r.user_id = ?)"
+            )
             args.append(role_user_id)
         if keyword:
             kw_where, kw_args = part_visible(vis, "s.twin_id", "s.privacy")
@@ -151,6 +157,7 @@ class TwinTables:
                 " VALUES (?, ?, ?, ?, ?)",
                 [(e.source, e.kind, e.target, e.declared_by, e.privacy) for e in w.edges],
             )
+            assert twin_id is not None
             write_search_rows(c, twin_id, w.search_rows)
             row = c.execute(f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.id = ?", (twin_id,))
             return _twin(row.fetchone())
@@ -160,9 +167,14 @@ class TwinTables:
     async def delete_twins(self, twins: list[TwinRecord]) -> None:
         def _delete(c: sqlite3.Connection) -> None:
             for t in twins:
-                c.execute("DELETE FROM search_fts WHERE rowid IN"
-                          " (SELECT id FROM search_rows WHERE twin_id = ?)", (t.id,))
-                c.execute("DELETE FROM relations WHERE source = ? OR target = ?", (t.dt_id, t.dt_id))
+                c.execute(
+                    "DELETE FROM search_fts WHERE rowid IN"
+                    " (SELECT id FROM search_rows WHERE twin_id = ?)",
+                    (t.id,),
+                )
+                c.execute(
+                    "DELETE FROM relations WHERE source = ? OR target = ?", (t.dt_id, t.dt_id)
+                )
                 c.execute("DELETE FROM twins WHERE id = ?", (t.id,))
 
         await self.db.write(_delete)

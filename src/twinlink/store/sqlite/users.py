@@ -43,7 +43,12 @@ class UserTables:
         return await self.db.read(lambda c: c.execute("SELECT count(*) FROM users").fetchone()[0])
 
     async def create_user(
-        self, username: str, password_hash: str | None, is_admin: bool, groups: list[str], now_ns: int
+        self,
+        username: str,
+        password_hash: str | None,
+        is_admin: bool,
+        groups: list[str],
+        now_ns: int,
     ) -> User:
         def _create(c: sqlite3.Connection) -> User:
             cur = c.execute(
@@ -129,7 +134,9 @@ class UserTables:
 
     async def find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None:
         def _find(c: sqlite3.Connection) -> tuple[ApiToken, User] | None:
-            row = c.execute("SELECT * FROM api_tokens WHERE token_hash = ?", (token_hash,)).fetchone()
+            row = c.execute(
+                "SELECT * FROM api_tokens WHERE token_hash = ?", (token_hash,)
+            ).fetchone()
             if row is None:
                 return None
             user = c.execute("SELECT * FROM users WHERE id = ?", (row["user_id"],)).fetchone()
@@ -162,9 +169,11 @@ class UserTables:
 
     async def revoke_token(self, token_id: int, now_ns: int) -> bool:
         return await self.db.write(
-            lambda c: c.execute(
-                "UPDATE api_tokens SET revoked_ns = ? WHERE id = ? AND revoked_ns IS NULL",
-                (now_ns, token_id),
-            ).rowcount
-            > 0
+            lambda c: (
+                c.execute(
+                    "UPDATE api_tokens SET revoked_ns = ? WHERE id = ? AND revoked_ns IS NULL",
+                    (now_ns, token_id),
+                ).rowcount
+                > 0
+            )
         )

@@ -1,0 +1,52 @@
+# The documented commands. Each target installs what it needs first.
+#   make demo   the platform with the example twins, on http://127.0.0.1:8000
+#   make test   every test (unit and integration, with real servers on loopback)
+#   make bench  the benchmarks in bench/, results in docs/benchmarks.md
+#   make lint   ruff and mypy
+
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed-$(shell cksum < pyproject.toml | cut -d" " -f1)
+HOST   ?= 127.0.0.1
+PORT   ?= 8000
+
+.PHONY: demo test unit integration bench lint format clean setup
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	@scripts/ensure-python.sh $(PYTHON)
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	@rm -f $(VENV)/.installed-*
+	@touch $@
+
+demo: $(STAMP)
+	$(BIN)/twinlink demo --host $(HOST) --port $(PORT)
+
+test: $(STAMP)
+	$(BIN)/python -m pytest tests
+
+unit: $(STAMP)
+	$(BIN)/python -m pytest tests/unit
+
+integration: $(STAMP)
+	$(BIN)/python -m pytest tests/integration
+
+bench: $(STAMP)
+	@scripts/ensure-packages.sh nginx-light
+	$(BIN)/python bench/api.py
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests bench
+	$(BIN)/ruff format --check src tests bench
+	$(BIN)/mypy
+
+format: $(STAMP)
+	$(BIN)/ruff format src tests bench
+	$(BIN)/ruff check --fix src tests bench
+
+clean:
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info

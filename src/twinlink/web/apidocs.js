@@ -1,0 +1,53 @@
+// The token lives in sessionStorage: it is gone when the tab closes and never sent anywhere
+// but this server's API.
+(function () {
+  const KEY = "twinlink.token";
+  const form = document.getElementById("signin");
+  const error = document.getElementById("error");
+
+  function show(token) {
+    form.hidden = true;
+    document.getElementById("signout").hidden = false;
+    const ui = SwaggerUIBundle({
+      url: "/openapi.json",
+      dom_id: "#swagger-ui",
+      persistAuthorization: false,
+      requestInterceptor: function (req) {
+        if (!req.headers.Authorization) req.headers.Authorization = "Bearer " + token;
+        return req;
+      },
+      onComplete: function () { ui.preauthorizeApiKey("HTTPBearer", token); },
+    });
+  }
+
+  async function signIn(event) {
+    event.preventDefault();
+    error.textContent = "";
+    let token = document.getElementById("token").value.trim();
+    if (!token) {
+      const r = await fetch("/api/v1/auth/login", {
+        method: "POST",
+        headers: {"Content-Type": "application/json"},
+        body: JSON.stringify({
+          username: document.getElementById("username").value,
+          password: document.getElementById("password").value,
+        }),
+      });
+      const body = await r.json();
+      if (!r.ok) { error.textContent = body.detail || "Sign-in failed"; return; }
+      token = body.token;
+    }
+    const check = await fetch("/api/v1/auth/me", {headers: {Authorization: "Bearer " + token}});
+    if (!check.ok) { error.textContent = "The token is not valid."; return; }
+    sessionStorage.setItem(KEY, token);
+    show(token);
+  }
+
+  document.getElementById("signout").onclick = function () {
+    sessionStorage.removeItem(KEY);
+    location.reload();
+  };
+  form.addEventListener("submit", signIn);
+  const saved = sessionStorage.getItem(KEY);
+  if (saved) show(saved); else form.hidden = false;
+})();

@@ -1,0 +1,46 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from twinlink.config import Settings, load_settings
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "config.md"
+
+
+def test_defaults() -> None:
+    s = Settings()
+    assert (s.host, s.port, s.base_url) == ("127.0.0.1", 8000, "http://127.0.0.1:8000")
+
+
+def test_env_then_toml_then_flags(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    toml = tmp_path / "twinlink.toml"
+    toml.write_text('port = 9001\nhost = "0.0.0.0"\npublic_url = "https://twins.example.org/"\n')
+    monkeypatch.setenv("TWINLINK_CONFIG", str(toml))
+    monkeypatch.setenv("TWINLINK_PORT", "9002")
+    s = Settings()
+    assert (s.host, s.port) == ("0.0.0.0", 9002)  # env beats the file
+    assert s.base_url == "https://twins.example.org"
+    assert load_settings(None, port=9003).port == 9003  # flags beat env
+
+
+def test_unknown_setting_is_an_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    toml = tmp_path / "t.toml"
+    toml.write_text("prot = 1\n")
+    monkeypatch.setenv("TWINLINK_CONFIG", str(toml))
+    with pytest.raises(ValueError, match="prot"):
+        Settings()
+
+
+def test_secrets_do_not_show_in_repr(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("TWINLINK_ADMIN_TOKEN", "tl_very_secret")
+    assert "tl_very_secret" not in repr(Settings())
+
+
+@pytest.mark.parametrize("field", sorted(Settings.model_fields))
+def test_every_setting_is_documented(field: str) -> None:
+    text = DOCS.read_text()
+    assert f"`TWINLINK_{field.upper()}`" in text, (
+        f"document TWINLINK_{field.upper()} in docs/config.md"
+    )

@@ -1,0 +1,157 @@
+"""The SQLite store on a real file in a temporary folder (fast: no server)."""
+
+from __future__ import annotations
+
+import sqlite3
+from pathlib import Path
+
+import pytest
+
+from twinlink.store.records import Edge, SearchRow, TwinWrite, Visibility
+from twinlink.store.sqlite import SqliteStore
+from twinlink.store.sqlite.db import connect, migrate, migrations
+
+
+def write(
+    slug: str,
+    rows: list[SearchRow],
+    parts: dict | None = None,
+    edges: list[Edge] | None = None,  # type: ignore[type-arg]
+    owner: int | None = None,
+) -> TwinWrite:
+    return TwinWrite(
+        slug=slug,
+        dt_id=f"urn:{slug}",
+        name=slug.title(),
+        created_ns=1,
+        modified_ns=1,
+        parts=parts or {"public": {"name": slug}},
+        edges=edges or [],
+        search_rows=rows,
+        owner_user_id=owner,
+    )
+
+
+def row(
+    privacy: str,
+    feature: str | None,
+    name: str,
+    description: str = "",
+    keywords: list[str] | None = None,
+) -> SearchRow:
+    return SearchRow(privacy, feature, name, description, keywords or [], "")
+
+
+@pytest.fixture
+async def store(tmp_path: Path):  # type: ignore[no-untyped-def]
+    s = SqliteStore(tmp_path)
+    await s.open()
+    yield s
+    await s.close()
+
+
+def test_migrations_are_numbered_without_gaps() -> None:
+    versions = [v for v, _, _ in migrations()]
+    assert versions == list(range(1, len(versions) + 1))
+
+
+async def test_existing_data_dir_is_upgraded_in_place(tmp_path: Path) -> None:
+    conn = connect(tmp_path / SqliteStore.FILE_NAME)
+    assert migrate(conn, target=1) == [1]
+    conn.execute("INSERT INTO users(username, created_ns) VALUES ('old', 1)")
+    conn.close()
+    store = SqliteStore(tmp_path)
+    await store.open()
+    try:
+        assert (await store.get_user_by_name("old")) is not None
+        version = await store.db.read(lambda c: c.execute("PRAGMA user_version").fetchone()[0])
+        assert version == migrations()[-1][0]
+        await store.save_twin(write("crane", [row("public", None, "Crane")]))
+        assert (
+            await store.search(Visibility(), ['"crane"*'], keyword=None, limit=5, offset=0)
+        ).total == 1
+    finally:
+        await store.close()
+
+
+async def test_wal_mode(store: SqliteStore) -> None:
+    assert await store.db.read(lambda c: c.execute("PRAGMA journal_mode").fetchone()[0]) == "wal"
+
+
+async def test_search_needs_every_term_somewhere_in_the_twin(store: SqliteStore) -> None:
+    await store.save_twin(
+        write(
+            "crane",
+            [
+                row("public", None, "Ilmatar crane"),
+                row("public", "CAD store", "CAD store", "3D model", ["CAD"]),
+            ],
+        )
+    )
+    await store.save_twin(write("hall", [row("public", None, "Hall", "a crane is here")]))
+    result = await store.search(
+        Visibility(), ['"crane"*', '"cad"*'], keyword=None, limit=5, offset=0
+    )
+    assert [h["slug"] for h in result.hits] == ["crane"]
+    assert {m["feature"] for m in result.hits[0]["matches"]} == {None, "CAD store"}
+
+
+async def test_name_match_outranks_description_match(store: SqliteStore) -> None:
+    await store.save_twin(write("a", [row("public", None, "Pump", "moves water")]))
+    await store.save_twin(
+        write("b", [row("public", None, "Tank", "fed by a pump and a pump again")])
+    )
+    result = await store.search(Visibility(), ['"pump"*'], keyword=None, limit=5, offset=0)
+    assert [h["slug"] for h in result.hits] == ["a", "b"]
+
+
+async def test_private_rows_are_filtered_and_facets_follow(store: SqliteStore) -> None:
+    await store.save_twin(
+        write(
+            "crane",
+            [
+                row("public", None, "Crane"),
+                row("private", "Vault", "Vault", "zebra secrets", ["zebra"]),
+            ],
+            parts={"public": {"name": "Crane"}, "private": {}},
+        )
+    )
+    assert (
+        await store.search(Visibility(), ['"zebra"*'], keyword=None, limit=5, offset=0)
+    ).total == 0
+    admin = await store.search(
+        Visibility(is_admin=True), ['"zebra"*'], keyword=None, limit=5, offset=0
+    )
+    assert admin.total == 1 and admin.facets == [("zebra", 1)]
+    grouped = Visibility(user_id=99, groups=("private",))  # a group name never grants private
+    assert (await store.search(grouped, ['"zebra"*'], keyword=None, limit=5, offset=0)).total == 1
+
+
+async def test_resaving_replaces_search_rows(store: SqliteStore) -> None:
+    record = await store.save_twin(write("t", [row("public", None, "Old name")]))
+    update = write("t", [row("public", None, "New name")])
+    update.twin_id = record.id
+    await store.save_twin(update)
+    assert (
+        await store.search(Visibility(), ['"old"*'], keyword=None, limit=5, offset=0)
+    ).total == 0
+    assert (
+        await store.search(Visibility(), ['"new"*'], keyword=None, limit=5, offset=0)
+    ).total == 1
+
+
+async def test_descendants_walk_and_exclusion(store: SqliteStore) -> None:
+    edges = [Edge("a", "parent", "b", "a", "public"), Edge("b", "parent", "c", "b", "public")]
+    await store.save_twin(write("x", [], edges=edges))
+    assert await store.descendants(["a"], exclude="zz") == {"a", "b", "c"}
+    assert await store.descendants(["a"], exclude="b") == {"a"}
+
+
+async def test_write_is_atomic(store: SqliteStore) -> None:
+    await store.save_twin(write("dup", []))
+    with pytest.raises(sqlite3.IntegrityError):
+        await store.save_twin(write("dup", [row("public", None, "Second")]))
+    assert await store.count_twins() == 1
+    assert (
+        await store.search(Visibility(), ['"second"*'], keyword=None, limit=5, offset=0)
+    ).total == 0
