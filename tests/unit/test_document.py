@@ -125,3 +125,11 @@ def test_interface_types() -> None:
     assert part.interface.signals[0].unit == "rad"
     assert part.interface.properties[0].writable is True
     assert part.interface.commands[0].parameters[0].required is True
+
+
+def test_only_plain_data_is_accepted() -> None:
+    found = problems('version: "1.0"\nname: x\n1: int key\nb: !!binary aGVsbG8=\nc: .nan\n')
+    messages = {(line, m) for line, _, m in found}
+    assert (3, "key 1 must be text (quote it)") in messages
+    assert (4, "values of type bytes are not allowed here") in messages
+    assert (5, "not-a-number and infinite values are not allowed") in messages

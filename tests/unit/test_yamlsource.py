@@ -53,3 +53,17 @@ def test_dump_keeps_key_order_and_unicode() -> None:
 def test_format_path() -> None:
     assert format_path(("features", 2, "keywords", 0)) == "features[2].keywords[0]"
     assert format_path(()) == ""
+
+
+def test_alias_bomb_is_refused_before_it_expands() -> None:
+    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
+    for i in range(1, 9):
+        prev = f"*a{i - 1}"
+        lines.append(f"a{i}: &a{i} [{', '.join([prev] * 10)}]")
+    with pytest.raises(DocumentError, match="too large"):
+        parse_yaml_stream("\n".join(lines) + "\n")
+
+
+def test_deep_nesting_is_refused() -> None:
+    with pytest.raises(DocumentError, match="nested"):
+        parse_yaml_stream("a: " + "[" * 3000 + "]" * 3000 + "\n")

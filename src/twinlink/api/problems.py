@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import sqlite3
 from typing import Any
 
 import orjson
@@ -78,6 +79,12 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(StarletteHTTPException)
     async def _http(_: Request, exc: StarletteHTTPException) -> Response:
         return problem(exc.status_code, str(exc.detail))
+
+    @app.exception_handler(sqlite3.IntegrityError)
+    async def _integrity(request: Request, exc: sqlite3.IntegrityError) -> Response:
+        # Services check for conflicts first; this is the safety net for a race between them.
+        log.warning("store refused a write", extra={"event": "conflict", "path": request.url.path})
+        return problem(409, "The change conflicts with the current state; retry it.")
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception) -> Response:

@@ -6,6 +6,7 @@ as, so keys we do not know are kept and come back in their order on output.
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Annotated, Any, Literal
 
@@ -156,6 +157,7 @@ def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]
         for e in err.errors(include_url=False):
             path = _data_path(raw, e["loc"], e["type"] == "missing")
             problems.append(source.problem(_message(e), path))
+    problems.extend(_plain_data_problems(raw, (), source))
     if part is not None:
         problems.extend(_rules(part, source))
     if problems:
@@ -207,6 +209,31 @@ def _rules(part: DocumentPart, source: SourceDocument) -> list[Problem]:
                     )
                 names.add(item.name)
     return problems
+
+
+def _plain_data_problems(value: Any, path: Path, source: SourceDocument) -> list[Problem]:
+    """A DT document is plain data (JSON's types): text keys, no binary, dates or sets."""
+    if isinstance(value, dict):
+        out = []
+        for key, item in value.items():
+            if not isinstance(key, str):
+                out.append(
+                    source.problem(f"key {key!r} must be text (quote it)", (*path, str(key)))
+                )
+            else:
+                out.extend(_plain_data_problems(item, (*path, key), source))
+        return out
+    if isinstance(value, list):
+        return [
+            p
+            for i, item in enumerate(value)
+            for p in _plain_data_problems(item, (*path, i), source)
+        ]
+    if isinstance(value, float) and not math.isfinite(value):
+        return [source.problem("not-a-number and infinite values are not allowed", path)]
+    if value is None or isinstance(value, str | int | float | bool):
+        return []
+    return [source.problem(f"values of type {type(value).__name__} are not allowed here", path)]
 
 
 def _normalised(raw: dict[str, Any], part: DocumentPart) -> dict[str, Any]:

@@ -63,7 +63,19 @@ def format_path(path: Path) -> str:
     return out
 
 
+# Aliases let a small text stand for a huge tree ("billion laughs"); a document is refused
+# once its tree holds more values than any real DT document, or nests deeper.
+MAX_VALUES = 200_000
+MAX_DEPTH = 64
+
+
+class _TooLarge(Exception):
+    pass
+
+
 def _record(node: yaml.Node, path: Path, marks: dict[Path, tuple[int, int]]) -> None:
+    if len(marks) > MAX_VALUES or len(path) > MAX_DEPTH:
+        raise _TooLarge
     marks[path] = (node.start_mark.line + 1, node.start_mark.column + 1)
     if isinstance(node, yaml.MappingNode):
         for key_node, value_node in node.value:
@@ -87,9 +99,23 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
             node = loader.get_node()
             if node is None:
                 continue
-            data = loader.construct_document(node)
             marks: dict[Path, tuple[int, int]] = {}
-            _record(node, (), marks)
+            try:
+                _record(node, (), marks)
+            except _TooLarge:
+                raise DocumentError(
+                    "The document is too large or too deeply nested; nothing was stored.",
+                    [
+                        Problem(
+                            f"more than {MAX_VALUES} values or {MAX_DEPTH} levels "
+                            "(YAML aliases expand to copies)",
+                            line=node.start_mark.line + 1,
+                            column=1,
+                            document=len(docs),
+                        )
+                    ],
+                ) from None
+            data = loader.construct_document(node)
             docs.append(SourceDocument(data=data, marks=marks, index=len(docs)))
     except yaml.MarkedYAMLError as err:
         mark = err.problem_mark or err.context_mark
@@ -105,6 +131,11 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
                 )
             ],
         ) from err
+    except RecursionError:
+        raise DocumentError(
+            "The document is too deeply nested; nothing was stored.",
+            [Problem(f"more than {MAX_DEPTH} levels", document=len(docs))],
+        ) from None
     except yaml.YAMLError as err:
         raise DocumentError(
             "The document is not valid YAML; nothing was stored.", [Problem(message=str(err))]

@@ -108,7 +108,8 @@ class RegistryService:
         groups = self._group(docs, slug)
         results = []
         async with self._write_lock:
-            plans = [await self._plan(principal, g, slug, mode) for g in groups]
+            reserved: set[str] = set()  # slugs taken by new twins earlier in this request
+            plans = [await self._plan(principal, g, slug, mode, reserved) for g in groups]
             for plan in plans:
                 results.append(await self._write(principal, *plan))
         return results
@@ -152,7 +153,12 @@ class RegistryService:
         return list(groups.values())
 
     async def _plan(
-        self, principal: Principal, group: _Group, slug: str | None, mode: str
+        self,
+        principal: Principal,
+        group: _Group,
+        slug: str | None,
+        mode: str,
+        reserved: set[str],
     ) -> tuple[
         TwinRecord | None, str, str, dict[str, dict[str, Any]], dict[str, DocumentPart], int
     ]:
@@ -188,13 +194,17 @@ class RegistryService:
             if not has_role(principal, role, "editor"):
                 raise ForbiddenError(f"changing {existing.slug!r} needs the editor role")
             new_slug = existing.slug if not explicit else str(explicit)
+            if new_slug != existing.slug and (
+                new_slug in reserved or await self.store.get_twin(new_slug) is not None
+            ):
+                raise ConflictError(f"cannot rename {existing.slug!r}: {new_slug!r} is taken")
             dt_id = dt_id or existing.dt_id
             parts = await self.store.get_parts(existing.id)
             created = existing.created_ns
         else:
             new_slug = slug_for(explicit, part.hosting_iri, dt_id, part.name)
-            if await self.store.get_twin(new_slug) is not None:
-                new_slug = await self._free_slug(new_slug)
+            if new_slug in reserved or await self.store.get_twin(new_slug) is not None:
+                new_slug = await self._free_slug(new_slug, reserved)
             dt_id = dt_id or self.canonical_url(new_slug)
             parts = {}
             imported = [imported_created_ns(src.data) for _, _, src in group.parts.values()]
@@ -212,12 +222,13 @@ class RegistryService:
         for level, (_, body, _) in group.parts.items():
             parts[level] = body
         models = {level: validate_part(SourceDocument(body))[0] for level, body in parts.items()}
+        reserved.add(new_slug)
         return existing, new_slug, dt_id, parts, models, created
 
-    async def _free_slug(self, base: str) -> str:
+    async def _free_slug(self, base: str, reserved: set[str]) -> str:
         for n in range(2, 10_000):
             candidate = f"{base[:58]}-{n}"
-            if await self.store.get_twin(candidate) is None:
+            if candidate not in reserved and await self.store.get_twin(candidate) is None:
                 return candidate
         raise ConflictError(f"no free slug near {base!r}")
 
