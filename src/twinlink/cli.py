@@ -9,7 +9,8 @@ from typing import Any
 import click
 import orjson
 
-from twinlink.client import Client, ClientError, save_credentials
+from twinlink.client import Client, ClientError, forget_credentials, save_credentials
+from twinlink.config import ConfigError
 from twinlink.domain.yamlsource import dump_yaml
 
 YAML_SUFFIXES = (".yaml", ".yml", ".json")
@@ -32,7 +33,7 @@ class _Group(click.Group):
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
-        except ClientError as err:
+        except (ClientError, ConfigError) as err:
             click.echo(f"error: {err}", err=True)
             ctx.exit(1)
 
@@ -82,6 +83,17 @@ def login(ctx: click.Context, username: str, password: str) -> None:
         f"Signed in to {client.url} as {username}; token saved in {path}"
         f" (expires {answer['expires']})."
     )
+
+
+@main.command()
+@click.pass_context
+def logout(ctx: click.Context) -> None:
+    """Revoke the saved session token and forget it."""
+    client = _client(ctx)
+    if client.token:
+        client.json("POST", "/api/v1/auth/logout")
+    path = forget_credentials()
+    click.echo(f"Signed out; {path} removed." if path else "Signed out.")
 
 
 def _document_files(paths: tuple[str, ...]) -> list[Path]:

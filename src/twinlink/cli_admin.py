@@ -101,6 +101,36 @@ def twins_tree(ctx: click.Context, slug: str, up: bool, depth: int) -> None:
     show(node, 0)
 
 
+@twins.command("roles")
+@click.argument("slug")
+@click.pass_context
+def twins_roles(ctx: click.Context, slug: str) -> None:
+    """Show who has which role on a twin."""
+    for r in _client(ctx).json("GET", f"/api/v1/twins/{slug}/roles")["roles"]:
+        click.echo(f"{r['username']:<24} {r['role']}")
+
+
+@twins.command("grant")
+@click.argument("slug")
+@click.argument("username")
+@click.argument("role", type=click.Choice(["owner", "editor", "viewer"]))
+@click.pass_context
+def twins_grant(ctx: click.Context, slug: str, username: str, role: str) -> None:
+    """Give USERNAME a ROLE on a twin (owners only)."""
+    _client(ctx).json("PUT", f"/api/v1/twins/{slug}/roles/{username}", json={"role": role})
+    click.echo(f"{username} is {role} of {slug}")
+
+
+@twins.command("revoke")
+@click.argument("slug")
+@click.argument("username")
+@click.pass_context
+def twins_revoke(ctx: click.Context, slug: str, username: str) -> None:
+    """Take USERNAME's role on a twin away (owners only)."""
+    _client(ctx).json("DELETE", f"/api/v1/twins/{slug}/roles/{username}")
+    click.echo(f"{username} has no role on {slug}")
+
+
 # -- users ---------------------------------------------------------------------------------
 
 
@@ -148,6 +178,7 @@ def users_add(
 @click.option("--password", help="New password.")
 @click.option("--admin/--no-admin", default=None, help="Grant or take away platform admin.")
 @click.option("-g", "--group", "groups", multiple=True, help="Replace the user's groups.")
+@click.option("--no-groups", is_flag=True, help="Remove the user from every group.")
 @click.option("--disable/--enable", "disabled", default=None, help="Disable or enable sign-in.")
 @click.pass_context
 def users_set(
@@ -156,12 +187,13 @@ def users_set(
     password: str | None,
     admin: bool | None,
     groups: tuple[str, ...],
+    no_groups: bool,
     disabled: bool | None,
 ) -> None:
-    """Change a user."""
+    """Change a user. A new password or --disable ends the user's login sessions."""
     body: dict[str, object] = {"password": password, "is_admin": admin, "disabled": disabled}
-    if groups:
-        body["groups"] = list(groups)
+    if groups or no_groups:
+        body["groups"] = [] if no_groups else list(groups)
     _client(ctx).json(
         "PATCH", f"/api/v1/users/{username}", json={k: v for k, v in body.items() if v is not None}
     )
@@ -191,25 +223,21 @@ def tokens() -> None:
 def tokens_ls(ctx: click.Context, all_users: bool) -> None:
     """List your API tokens (never their secrets)."""
     for t in _client(ctx).json("GET", "/api/v1/tokens", params={"all": all_users})["tokens"]:
-        state = (
-            "revoked"
-            if t["revoked"]
-            else f"expires {t['expires']}"
-            if t["expires"]
-            else "no expiry"
-        )
+        state = t["state"]
+        if state == "active":
+            state = f"expires {t['expires']}" if t["expires"] else "no expiry"
         click.echo(f"{t['id']:>5}  {t['prefix']}…  {t['name']:<24} {t['kind']:<8} {state}")
 
 
 @tokens.command("create")
 @click.argument("name")
 @click.option("--expires-in", type=int, help="Lifetime in seconds.")
+@click.option("--user", help="Create it for another user, e.g. a service account (admins).")
 @click.pass_context
-def tokens_create(ctx: click.Context, name: str, expires_in: int | None) -> None:
+def tokens_create(ctx: click.Context, name: str, expires_in: int | None, user: str | None) -> None:
     """Create an API token; its secret is printed once."""
-    answer = _client(ctx).json(
-        "POST", "/api/v1/tokens", json={"name": name, "expires_in_s": expires_in}
-    )
+    path = f"/api/v1/users/{user}/tokens" if user else "/api/v1/tokens"
+    answer = _client(ctx).json("POST", path, json={"name": name, "expires_in_s": expires_in})
     click.echo(answer["token"])
     click.echo(f"(token {answer['id']} '{name}': shown once, store it now)", err=True)
 

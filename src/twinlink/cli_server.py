@@ -14,12 +14,19 @@ from twinlink.auth.rights import Principal
 from twinlink.auth.service import Bootstrap
 from twinlink.config import load_settings
 from twinlink.domain.errors import ConflictError, DocumentError
-from twinlink.registry.service import parse_documents
+from twinlink.registry.documents import parse_documents
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-def _server_options(fn: F) -> F:
+def _server_options(data_dir_default: str) -> Callable[[F], F]:
+    def decorate(fn: F) -> F:
+        return _add_server_options(fn, data_dir_default)
+
+    return decorate
+
+
+def _add_server_options(fn: F, data_dir_default: str) -> F:
     fn = click.option(
         "--config",
         "config_file",
@@ -29,7 +36,7 @@ def _server_options(fn: F) -> F:
     fn = click.option(
         "--data-dir",
         type=click.Path(file_okay=False, path_type=Path),
-        help="Data folder. Env: TWINLINK_DATA_DIR [default: ./twinlink-data].",
+        help=f"Data folder. Env: TWINLINK_DATA_DIR [default: {data_dir_default}].",
     )(fn)
     fn = click.option(
         "--port", type=int, help="TCP port, 0 for any free one. Env: TWINLINK_PORT [default: 8000]."
@@ -39,7 +46,7 @@ def _server_options(fn: F) -> F:
 
 
 @click.command()
-@_server_options
+@_server_options("./twinlink-data")
 def up(host: str | None, port: int | None, data_dir: Path | None, config_file: str | None) -> None:
     """Run the twinlink server."""
     from twinlink.server import serve
@@ -69,7 +76,7 @@ async def load_examples(services: Services, folder: Path) -> list[str]:
 
 
 @click.command()
-@_server_options
+@_server_options("./.twinlink-demo")
 @click.option(
     "--examples",
     type=click.Path(file_okay=False, path_type=Path),

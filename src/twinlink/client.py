@@ -40,6 +40,15 @@ def save_credentials(url: str, token: str) -> Path:
     return path
 
 
+def forget_credentials() -> Path | None:
+    path = credentials_file()
+    try:
+        path.unlink()
+    except FileNotFoundError:
+        return None
+    return path
+
+
 class Client:
     def __init__(self, url: str | None, token: str | None, timeout: float = 30.0) -> None:
         saved = saved_credentials()
@@ -76,6 +85,6 @@ def _explain(response: httpx.Response) -> str:
         doc = f"document {e['document'] + 1}, " if e.get("document") else ""
         path = f"{e['path']}: " if e.get("path") else ""
         lines.append(f"  - {doc}{where}{path}{e.get('message')}")
-    if response.status_code == 401:
+    if response.status_code == 401 and not response.request.url.path.endswith("/auth/login"):
         lines.append("  Sign in with `twinlink login` or pass --token / TWINLINK_TOKEN.")
     return "\n".join(lines)

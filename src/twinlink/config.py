@@ -8,16 +8,21 @@ Every field is documented in docs/config.md; a test keeps the two in step.
 from __future__ import annotations
 
 import os
+import tomllib
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-from pydantic import Field, SecretStr
+from pydantic import Field, SecretStr, ValidationError
 from pydantic_settings import (
     BaseSettings,
     PydanticBaseSettingsSource,
     SettingsConfigDict,
     TomlConfigSettingsSource,
 )
+
+
+class ConfigError(ValueError):
+    """Settings that cannot be used; the message names the setting and the problem."""
 
 
 class Settings(BaseSettings):
@@ -57,8 +62,10 @@ class Settings(BaseSettings):
         description="Serve /openapi.json without a token. The /docs page itself holds no data "
         "and always asks for a token before it loads the API description.",
     )
-    log_level: str = Field("info", description="Log level: debug, info, warning or error.")
-    log_format: str = Field(
+    log_level: Literal["debug", "info", "warning", "error"] = Field(
+        "info", description="Log level: debug, info, warning or error."
+    )
+    log_format: Literal["json", "text"] = Field(
         "json", description="Log line format: json (one object a line) or text."
     )
     access_log: bool = Field(False, description="Log one line per HTTP request.")
@@ -75,6 +82,8 @@ class Settings(BaseSettings):
         sources: list[PydanticBaseSettingsSource] = [init_settings, env_settings]
         toml_file = os.environ.get("TWINLINK_CONFIG")
         if toml_file:
+            if not Path(toml_file).is_file():
+                raise ConfigError(f"the settings file {toml_file} does not exist")
             sources.append(TomlConfigSettingsSource(settings_cls, toml_file=Path(toml_file)))
         return tuple(sources)
 
@@ -91,4 +100,13 @@ def load_settings(config_file: str | None = None, **overrides: Any) -> Settings:
     if config_file:
         os.environ["TWINLINK_CONFIG"] = config_file
     clean = {k: v for k, v in overrides.items() if v is not None}
-    return Settings(**clean)
+    try:
+        return Settings(**clean)
+    except ValidationError as err:
+        lines = [
+            f"TWINLINK_{'_'.join(str(x) for x in e['loc']).upper()}: {e['msg']}"
+            for e in err.errors(include_url=False)
+        ]
+        raise ConfigError("invalid settings:\n  " + "\n  ".join(lines)) from None
+    except tomllib.TOMLDecodeError as err:
+        raise ConfigError(f"the settings file is not valid TOML: {err}") from None

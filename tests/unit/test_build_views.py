@@ -51,6 +51,7 @@ def test_search_rows_cover_twin_and_features_per_part() -> None:
     rows = search_rows(
         {
             "public": {
+                "id": "http://d-t.fi/ilmatar-K16052",
                 "name": "Crane",
                 "owner": {"name": "Uni"},
                 "custom": "blue",
@@ -61,7 +62,7 @@ def test_search_rows_cover_twin_and_features_per_part() -> None:
     )
     twin = rows[0]
     assert (twin.feature, twin.name, twin.privacy) == (None, "Crane", "public")
-    assert "Uni" in twin.extra and "blue" in twin.extra
+    assert "Uni" in twin.extra and "blue" in twin.extra and "ilmatar-K16052" in twin.extra
     cad = rows[1]
     assert (cad.feature, cad.keywords, cad.extra) == ("CAD store", ["CAD"], "account")
     assert [(r.privacy, r.feature) for r in rows[2:]] == [("private", None), ("private", "Secret")]

@@ -63,4 +63,5 @@ def test_has_role_ranks() -> None:
 def test_query_terms_are_quoted_prefixes_without_fts_syntax() -> None:
     assert query_terms('CAD "model" OR crane*') == ['"cad"*', '"model"*', '"or"*', '"crane"*']
     assert query_terms("  ") == []
+    assert query_terms("d-t.fi") == ['"d"', '"t"', '"fi"*']  # one letter: exact, not a prefix
     assert len(query_terms(" ".join(f"w{i}" for i in range(20)))) == 8

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Edge, SearchRow, TwinWrite, Visibility
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite.db import connect, migrate, migrations
@@ -42,6 +43,10 @@ def row(
     return SearchRow(privacy, feature, name, description, keywords or [], "")
 
 
+async def save(store: SqliteStore, w: TwinWrite):  # type: ignore[no-untyped-def]
+    return (await store.save_twins([w]))[0]
+
+
 @pytest.fixture
 async def store(tmp_path: Path):  # type: ignore[no-untyped-def]
     s = SqliteStore(tmp_path)
@@ -66,7 +71,7 @@ async def test_existing_data_dir_is_upgraded_in_place(tmp_path: Path) -> None:
         assert (await store.get_user_by_name("old")) is not None
         version = await store.db.read(lambda c: c.execute("PRAGMA user_version").fetchone()[0])
         assert version == migrations()[-1][0]
-        await store.save_twin(write("crane", [row("public", None, "Crane")]))
+        await save(store, write("crane", [row("public", None, "Crane")]))
         assert (
             await store.search(Visibility(), ['"crane"*'], keyword=None, limit=5, offset=0)
         ).total == 1
@@ -79,16 +84,17 @@ async def test_wal_mode(store: SqliteStore) -> None:
 
 
 async def test_search_needs_every_term_somewhere_in_the_twin(store: SqliteStore) -> None:
-    await store.save_twin(
+    await save(
+        store,
         write(
             "crane",
             [
                 row("public", None, "Ilmatar crane"),
                 row("public", "CAD store", "CAD store", "3D model", ["CAD"]),
             ],
-        )
+        ),
     )
-    await store.save_twin(write("hall", [row("public", None, "Hall", "a crane is here")]))
+    await save(store, write("hall", [row("public", None, "Hall", "a crane is here")]))
     result = await store.search(
         Visibility(), ['"crane"*', '"cad"*'], keyword=None, limit=5, offset=0
     )
@@ -97,16 +103,15 @@ async def test_search_needs_every_term_somewhere_in_the_twin(store: SqliteStore)
 
 
 async def test_name_match_outranks_description_match(store: SqliteStore) -> None:
-    await store.save_twin(write("a", [row("public", None, "Pump", "moves water")]))
-    await store.save_twin(
-        write("b", [row("public", None, "Tank", "fed by a pump and a pump again")])
-    )
+    await save(store, write("a", [row("public", None, "Pump", "moves water")]))
+    await save(store, write("b", [row("public", None, "Tank", "fed by a pump and a pump again")]))
     result = await store.search(Visibility(), ['"pump"*'], keyword=None, limit=5, offset=0)
     assert [h["slug"] for h in result.hits] == ["a", "b"]
 
 
 async def test_private_rows_are_filtered_and_facets_follow(store: SqliteStore) -> None:
-    await store.save_twin(
+    await save(
+        store,
         write(
             "crane",
             [
@@ -114,7 +119,7 @@ async def test_private_rows_are_filtered_and_facets_follow(store: SqliteStore) -
                 row("private", "Vault", "Vault", "zebra secrets", ["zebra"]),
             ],
             parts={"public": {"name": "Crane"}, "private": {}},
-        )
+        ),
     )
     assert (
         await store.search(Visibility(), ['"zebra"*'], keyword=None, limit=5, offset=0)
@@ -128,10 +133,10 @@ async def test_private_rows_are_filtered_and_facets_follow(store: SqliteStore) -
 
 
 async def test_resaving_replaces_search_rows(store: SqliteStore) -> None:
-    record = await store.save_twin(write("t", [row("public", None, "Old name")]))
+    record = await save(store, write("t", [row("public", None, "Old name")]))
     update = write("t", [row("public", None, "New name")])
     update.twin_id = record.id
-    await store.save_twin(update)
+    await save(store, update)
     assert (
         await store.search(Visibility(), ['"old"*'], keyword=None, limit=5, offset=0)
     ).total == 0
@@ -142,16 +147,60 @@ async def test_resaving_replaces_search_rows(store: SqliteStore) -> None:
 
 async def test_descendants_walk_and_exclusion(store: SqliteStore) -> None:
     edges = [Edge("a", "parent", "b", "a", "public"), Edge("b", "parent", "c", "b", "public")]
-    await store.save_twin(write("x", [], edges=edges))
+    await save(store, write("x", [], edges=edges))
     assert await store.descendants(["a"], exclude="zz") == {"a", "b", "c"}
     assert await store.descendants(["a"], exclude="b") == {"a"}
 
 
 async def test_write_is_atomic(store: SqliteStore) -> None:
-    await store.save_twin(write("dup", []))
+    await save(store, write("dup", []))
     with pytest.raises(sqlite3.IntegrityError):
-        await store.save_twin(write("dup", [row("public", None, "Second")]))
+        await save(store, write("dup", [row("public", None, "Second")]))
     assert await store.count_twins() == 1
     assert (
         await store.search(Visibility(), ['"second"*'], keyword=None, limit=5, offset=0)
     ).total == 0
+
+
+async def test_a_cycle_refuses_the_whole_batch(store: SqliteStore) -> None:
+    a = write("a", [], edges=[Edge("urn:a", "parent", "urn:b", "urn:a", "public")])
+    b = write(
+        "b",
+        [row("public", None, "Bee")],
+        edges=[Edge("urn:b", "parent", "urn:a", "urn:b", "public")],
+    )
+    with pytest.raises(ConflictError, match="cycle"):
+        await store.save_twins([a, b])
+    assert await store.count_twins() == 0
+    assert await store.edges_touching(["urn:a"]) == []
+    await store.save_twins([a])  # alone, a's edge is fine
+
+
+async def test_self_parent_is_a_cycle(store: SqliteStore) -> None:
+    with pytest.raises(ConflictError):
+        await store.save_twins(
+            [write("a", [], edges=[Edge("urn:a", "parent", "urn:a", "urn:a", "public")])]
+        )
+
+
+async def test_deleting_keeps_relations_other_twins_declare(store: SqliteStore) -> None:
+    hall = await save(
+        store,
+        write("hall", [], edges=[Edge("urn:hall", "parent", "urn:crane", "urn:hall", "public")]),
+    )
+    crane = await save(
+        store,
+        write("crane", [], edges=[Edge("urn:hall", "parent", "urn:crane", "urn:crane", "public")]),
+    )
+    await store.delete_twins([crane])
+    assert [e.declared_by for e in await store.edges_touching(["urn:crane"])] == ["urn:hall"]
+    await store.delete_twins([hall])
+    assert await store.edges_touching(["urn:crane"]) == []
+
+
+async def test_snippets_escape_document_html(store: SqliteStore) -> None:
+    await save(store, write("x", [row("public", "F", "F", "<b onmouseover=x>crane</b> here")]))
+    result = await store.search(Visibility(), ['"crane"*'], keyword=None, limit=5, offset=0)
+    snippet = result.hits[0]["matches"][0]["snippet"]
+    assert "<b" not in snippet
+    assert "&lt;b onmouseover=x&gt;<mark>crane</mark>&lt;/b&gt;" in snippet

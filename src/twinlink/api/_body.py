@@ -7,7 +7,7 @@ from typing import Any
 from fastapi import Request
 
 from twinlink.domain.yamlsource import SourceDocument
-from twinlink.registry.service import parse_documents
+from twinlink.registry.documents import parse_documents
 
 DOCUMENT_BODY: dict[str, Any] = {
     "requestBody": {

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Query
@@ -10,9 +11,8 @@ from pydantic import BaseModel, Field
 from twinlink.api.deps import Admin, Auth, Caller
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError
-from twinlink.domain.errors import NotFoundError
+from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.registry.build import human_time
-from twinlink.registry.service import ForbiddenError
 from twinlink.store.records import ApiToken, User
 
 router = APIRouter(prefix="/api/v1", tags=["auth"])
@@ -60,9 +60,16 @@ def token_view(t: ApiToken) -> dict[str, Any]:
     def when(ns: int | None) -> str | None:
         return human_time(ns) if ns is not None else None
 
+    now = time.time_ns()
+    state = "active"
+    if t.revoked_ns is not None:
+        state = "revoked"
+    elif t.expires_ns is not None and t.expires_ns <= now:
+        state = "expired"
     return {
         "id": t.id,
         "name": t.name,
+        "state": state,
         "prefix": t.prefix,
         "kind": t.kind,
         "created": when(t.created_ns),
@@ -101,6 +108,17 @@ async def create_token(body: NewToken, caller: Caller, auth: Auth) -> dict[str, 
     assert caller.user is not None
     issued = await auth.issue_token(caller.user, body.name, body.expires_in_s)
     return {"token": issued.token, **token_view(issued.record)}
+
+
+@router.post(
+    "/users/{username}/tokens",
+    status_code=201,
+    summary="Create an API token for another user, e.g. a service account (admins)",
+)
+async def create_token_for(username: str, body: NewToken, _: Admin, auth: Auth) -> dict[str, Any]:
+    user = await auth.require_user(username)
+    issued = await auth.issue_token(user, body.name, body.expires_in_s)
+    return {"token": issued.token, "username": user.username, **token_view(issued.record)}
 
 
 @router.delete("/tokens/{token_id}", summary="Revoke an API token")

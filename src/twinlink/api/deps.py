@@ -9,7 +9,8 @@ from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
 from twinlink.auth.rights import ANONYMOUS, Principal
 from twinlink.auth.service import AuthError, AuthService
-from twinlink.registry.service import ForbiddenError, RegistryService
+from twinlink.domain.errors import ForbiddenError
+from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 
 _bearer = HTTPBearer(auto_error=False, description="An API token: `Authorization: Bearer tl_...`")

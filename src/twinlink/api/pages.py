@@ -29,7 +29,9 @@ def _negotiate(accept: str) -> str:
                 except ValueError:
                     q = 0.0
         ranked.append((-q, i, kind.strip().lower()))
-    for _, _, kind in sorted(ranked):
+    for negative_q, _, kind in sorted(ranked):
+        if negative_q >= 0:
+            break  # q=0 means "not acceptable"
         if kind in _YAML_TYPES:
             return "yaml"
         if kind == "application/json":

@@ -12,9 +12,8 @@ from fastapi.exceptions import RequestValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.responses import Response
 
-from twinlink.auth.service import AuthError
-from twinlink.domain.errors import ConflictError, DocumentError, NotFoundError
-from twinlink.registry.service import ForbiddenError
+from twinlink.auth.service import AuthError, LoginError
+from twinlink.domain.errors import ConflictError, DocumentError, ForbiddenError, NotFoundError
 
 log = logging.getLogger("twinlink.api")
 PROBLEM = "application/problem+json"
@@ -47,6 +46,8 @@ def problem(status: int, detail: str, **extra: Any) -> Response:
 def install(app: FastAPI) -> None:
     @app.exception_handler(AuthError)
     async def _auth(_: Request, exc: AuthError) -> Response:
+        if isinstance(exc, LoginError):
+            return problem(401, f"{exc}.")
         return problem(401, f"{exc}. Send a valid token as 'Authorization: Bearer <token>'.")
 
     @app.exception_handler(ForbiddenError)

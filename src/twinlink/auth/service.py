@@ -27,6 +27,10 @@ class AuthError(Exception):
     """Missing, unknown, expired or revoked credentials (HTTP 401)."""
 
 
+class LoginError(AuthError):
+    """A wrong username or password (HTTP 401, without the bearer-token hint)."""
+
+
 @dataclass(slots=True)
 class Bootstrap:
     """What the first start created; printed once, never stored in clear."""
@@ -101,9 +105,9 @@ class AuthService:
     async def login(self, username: str, password: str) -> IssuedToken:
         user = await self.store.get_user_by_name(username)
         if not verify_password(user.password_hash if user else None, password) or user is None:
-            raise AuthError("wrong username or password")
+            raise LoginError("wrong username or password")
         if user.disabled:
-            raise AuthError("the user is disabled")
+            raise LoginError("the user is disabled")
         return await self.issue_token(user, "login session", ttl_s=None, kind="session")
 
     async def issue_token(
@@ -156,6 +160,9 @@ class AuthService:
         disabled: bool | None = None,
     ) -> User:
         user = await self.require_user(username)
+        if password or disabled:
+            # A new password or a disabled account ends every login session of the user.
+            await self.store.revoke_tokens(user.id, "session", now_ns())
         updated = await self.store.update_user(
             user.id,
             password_hash=hash_password(password) if password else None,

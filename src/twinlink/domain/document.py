@@ -27,6 +27,13 @@ def _number_to_text(value: Any) -> Any:
     return value
 
 
+def _privacy(value: Any) -> Any:
+    # "Public" and "PRIVATE" mean the fixed levels; group names keep their spelling.
+    if isinstance(value, str) and value.lower() in ("public", "private"):
+        return value.lower()
+    return value
+
+
 def _one_to_list(value: Any) -> Any:
     return [value] if isinstance(value, str) else value
 
@@ -120,7 +127,7 @@ class DocumentPart(_Open):
     """One document as written: a whole twin, or its part for one privacy level."""
 
     version: Text
-    privacy: Text = "private"
+    privacy: Annotated[Text, BeforeValidator(_privacy)] = "private"
     id: Text | None = None
     dt_id: Text | None = Field(None, alias="dt-id")
     hosting_iri: Text | None = Field(None, alias="hosting-iri")
@@ -158,56 +165,62 @@ def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]
             path = _data_path(raw, e["loc"], e["type"] == "missing")
             problems.append(source.problem(_message(e), path))
     problems.extend(_plain_data_problems(raw, (), source))
-    if part is not None:
-        problems.extend(_rules(part, source))
+    problems.extend(_rules(raw, source))
     if problems:
         raise DocumentError("The DT document has problems; nothing was stored.", problems)
     assert part is not None
     return part, _normalised(raw, part)
 
 
-def _rules(part: DocumentPart, source: SourceDocument) -> list[Problem]:
+def _rules(raw: dict[str, Any], source: SourceDocument) -> list[Problem]:
+    """Checks beyond types, on the raw mapping so they run even when a type is wrong."""
     problems = []
-    if not SUPPORTED_VERSION.match(part.version):
+    version = _number_to_text(raw.get("version"))
+    if isinstance(version, str) and not SUPPORTED_VERSION.match(version):
         problems.append(
             source.problem(
-                f"unsupported version {part.version!r}: twinlink reads dt-document versions 0.x "
-                'and 1.x ("1.0", "0.1")',
+                f"unsupported version {version!r}: twinlink reads dt-document versions 0.x "
+                'and 1.x ("1.0", "0.1"); quote the version',
                 ("version",),
             )
         )
-    if not PRIVACY_LEVEL.match(part.privacy):
+    privacy = raw.get("privacy")
+    if isinstance(privacy, str) and not PRIVACY_LEVEL.match(privacy):
         problems.append(
             source.problem(
                 "privacy must be public, private or a group name (letters, digits, . _ : -)",
                 ("privacy",),
             )
         )
-    if part.id and part.dt_id and part.id != part.dt_id:
+    ids = [raw.get("id"), raw.get("dt-id")]
+    if all(isinstance(x, str) for x in ids) and ids[0] != ids[1]:
         problems.append(source.problem("`id` and `dt-id` name different twins", ("dt-id",)))
+    problems.extend(_duplicates(raw.get("features"), ("features",), "feature", source))
+    interface = raw.get("interface")
+    if isinstance(interface, dict):
+        for section in ("signals", "properties", "commands"):
+            path = ("interface", section)
+            problems.extend(_duplicates(interface.get(section), path, section[:-1], source))
+    return problems
+
+
+def _duplicates(items: Any, path: Path, what: str, source: SourceDocument) -> list[Problem]:
+    if not isinstance(items, list):
+        return []
+    problems = []
     seen: dict[str, int] = {}
-    for i, feature in enumerate(part.features):
-        if feature.name in seen:
-            first = seen[feature.name]
+    for i, item in enumerate(items):
+        name = item.get("name") if isinstance(item, dict) else None
+        if not isinstance(name, str):
+            continue
+        if name in seen:
+            where = f"{path[-1]}[{seen[name]}]"
             problems.append(
                 source.problem(
-                    f"duplicate feature name {feature.name!r} (first at features[{first}])",
-                    ("features", i, "name"),
+                    f"duplicate {what} name {name!r} (first at {where})", (*path, i, "name")
                 )
             )
-        seen.setdefault(feature.name, i)
-    if part.interface is not None:
-        for section in ("signals", "properties", "commands"):
-            names: set[str] = set()
-            for i, item in enumerate(getattr(part.interface, section)):
-                if item.name in names:
-                    problems.append(
-                        source.problem(
-                            f"duplicate {section[:-1]} name {item.name!r}",
-                            ("interface", section, i, "name"),
-                        )
-                    )
-                names.add(item.name)
+        seen.setdefault(name, i)
     return problems
 
 

@@ -46,5 +46,9 @@ class NotFoundError(LookupError):
     """The thing asked for does not exist (or the caller may not know that it does)."""
 
 
+class ForbiddenError(Exception):
+    """A known caller without the right for this action (HTTP 403)."""
+
+
 class ConflictError(Exception):
     """The request contradicts the current state (a cycle, existing children, a taken name)."""

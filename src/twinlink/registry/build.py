@@ -10,6 +10,8 @@ from twinlink.domain.merge import level_order
 from twinlink.store.records import Edge, SearchRow
 
 _TWIN_TEXT_KEYS = (
+    "id",
+    "dt-id",
     "owner",
     "manufacturer",
     "contact",
@@ -17,12 +19,9 @@ _TWIN_TEXT_KEYS = (
     "hosting-iri",
     "apiGatewayAddress",
 )
-_FEATURE_TEXT_KEYS = ("requirement", "address", "apiAddress", "documentation")
 _NOT_SEARCHED = {
     "version",
     "privacy",
-    "id",
-    "dt-id",
     "name",
     "description",
     "relations",

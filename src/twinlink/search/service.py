@@ -13,9 +13,10 @@ MAX_TERMS = 8
 
 
 def query_terms(text: str) -> list[str]:
-    """Each word becomes a prefix match, so "histor" finds "historical" as you type."""
+    """Each word becomes a prefix match, so "histor" finds "historical" as you type. A single
+    character matches only itself: as a prefix it would match nearly everything."""
     words = list(dict.fromkeys(w.lower() for w in _WORD.findall(text)))[:MAX_TERMS]
-    return [f'"{w}"*' for w in words]
+    return [f'"{w}"*' if len(w) > 1 else f'"{w}"' for w in words]
 
 
 class SearchService:

@@ -103,6 +103,6 @@ def index_page(twins: list[dict[str, Any]], signed_in: bool) -> str:
             + note
             + f"<table><tr><th>Name</th><th>Id</th></tr>{rows}</table></section>"
             '<section><h2>API</h2><p><a href="/docs">Interactive API documentation</a> · '
-            '<a href="/openapi.json">OpenAPI</a> · <a href="/healthz">health</a></p></section>'
+            '<a href="/healthz">health</a></p></section>'
         ),
     )

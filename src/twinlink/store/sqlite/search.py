@@ -8,6 +8,7 @@ it the reader may see, so "crane CAD" finds the crane even though "crane" is in 
 
 from __future__ import annotations
 
+import html
 import sqlite3
 from collections import defaultdict
 from dataclasses import dataclass, field
@@ -21,7 +22,14 @@ from twinlink.store.sqlite.visibility import part_visible
 # more about what a feature holds than one in a long description.
 _WEIGHTS = "10.0, 2.0, 6.0, 1.0"
 _TWIN_ROW_BOOST = 1.5  # a term in the twin's own name/description outranks one in a feature
-_SNIPPET = "snippet(search_fts, -1, '<mark>', '</mark>', '…', 10)"
+# Snippets are marked with private-use characters, then HTML-escaped, then the marks become
+# <mark> tags: a document's own text can never inject markup into a search result.
+_OPEN, _CLOSE = "\ue000", "\ue001"
+_SNIPPET = f"snippet(search_fts, -1, '{_OPEN}', '{_CLOSE}', '…', 10)"
+
+
+def _safe_snippet(text: str) -> str:
+    return html.escape(text).replace(_OPEN, "<mark>").replace(_CLOSE, "</mark>")
 
 
 def write_search_rows(c: sqlite3.Connection, twin_id: int, rows: list[SearchRow]) -> None:
@@ -162,7 +170,7 @@ def _snippets(c: sqlite3.Connection, terms: list[str], row_ids: list[int]) -> di
             f" AND rowid IN ({marks})",
             [expr, *chunk],
         ):
-            out[row[0]] = row[1]
+            out[row[0]] = _safe_snippet(row[1])
     return out
 
 

@@ -8,6 +8,7 @@ from typing import Any
 
 import orjson
 
+from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Edge, TwinRecord, TwinWrite, Visibility
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.search import write_search_rows
@@ -127,40 +128,28 @@ class TwinTables:
         )
         return {r["privacy"]: orjson.loads(r["body"]) for r in rows}
 
-    async def save_twin(self, w: TwinWrite) -> TwinRecord:
-        def _save(c: sqlite3.Connection) -> TwinRecord:
-            if w.twin_id is None:
-                twin_id = c.execute(
-                    "INSERT INTO twins(slug, dt_id, name, created_ns, modified_ns)"
-                    " VALUES (?, ?, ?, ?, ?)",
-                    (w.slug, w.dt_id, w.name, w.created_ns, w.modified_ns),
-                ).lastrowid
-                if w.owner_user_id is not None:
-                    c.execute(
-                        "INSERT INTO twin_roles(twin_id, user_id, role) VALUES (?, ?, 'owner')",
-                        (twin_id, w.owner_user_id),
+    async def save_twins(self, writes: list[TwinWrite]) -> list[TwinRecord]:
+        """Write every twin in one transaction; refuse (and write nothing) if the relations
+        would then hold a composition cycle."""
+        if not writes:
+            return []
+
+        def _save(c: sqlite3.Connection) -> list[TwinRecord]:
+            ids = [_save_one(c, w) for w in writes]
+            for w in writes:
+                if _in_cycle(c, w.dt_id):
+                    raise ConflictError(
+                        f"the relations would make a composition cycle through {w.dt_id}: "
+                        "a twin cannot be its own ancestor"
                     )
-            else:
-                twin_id = w.twin_id
-                c.execute(
-                    "UPDATE twins SET slug = ?, dt_id = ?, name = ?, modified_ns = ? WHERE id = ?",
-                    (w.slug, w.dt_id, w.name, w.modified_ns, twin_id),
+            return [
+                _twin(
+                    c.execute(
+                        f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.id = ?", (i,)
+                    ).fetchone()
                 )
-            c.execute("DELETE FROM twin_parts WHERE twin_id = ?", (twin_id,))
-            c.executemany(
-                "INSERT INTO twin_parts(twin_id, privacy, body) VALUES (?, ?, ?)",
-                [(twin_id, level, orjson.dumps(body).decode()) for level, body in w.parts.items()],
-            )
-            c.execute("DELETE FROM relations WHERE declared_by = ?", (w.dt_id,))
-            c.executemany(
-                "INSERT OR REPLACE INTO relations(source, kind, target, declared_by, privacy)"
-                " VALUES (?, ?, ?, ?, ?)",
-                [(e.source, e.kind, e.target, e.declared_by, e.privacy) for e in w.edges],
-            )
-            assert twin_id is not None
-            write_search_rows(c, twin_id, w.search_rows)
-            row = c.execute(f"SELECT {_TWIN_COLUMNS} FROM twins t WHERE t.id = ?", (twin_id,))
-            return _twin(row.fetchone())
+                for i in ids
+            ]
 
         return await self.db.write(_save)
 
@@ -172,9 +161,8 @@ class TwinTables:
                     " (SELECT id FROM search_rows WHERE twin_id = ?)",
                     (t.id,),
                 )
-                c.execute(
-                    "DELETE FROM relations WHERE source = ? OR target = ?", (t.dt_id, t.dt_id)
-                )
+                # Relations other twins declare stay: they name this id, which may come back.
+                c.execute("DELETE FROM relations WHERE declared_by = ?", (t.dt_id,))
                 c.execute("DELETE FROM twins WHERE id = ?", (t.id,))
 
         await self.db.write(_delete)
@@ -245,3 +233,48 @@ class TwinTables:
                 )
 
         await self.db.write(_set)
+
+
+def _save_one(c: sqlite3.Connection, w: TwinWrite) -> int:
+    if w.twin_id is None:
+        twin_id = c.execute(
+            "INSERT INTO twins(slug, dt_id, name, created_ns, modified_ns) VALUES (?, ?, ?, ?, ?)",
+            (w.slug, w.dt_id, w.name, w.created_ns, w.modified_ns),
+        ).lastrowid
+        assert twin_id is not None
+        if w.owner_user_id is not None:
+            c.execute(
+                "INSERT INTO twin_roles(twin_id, user_id, role) VALUES (?, ?, 'owner')",
+                (twin_id, w.owner_user_id),
+            )
+    else:
+        twin_id = w.twin_id
+        c.execute(
+            "UPDATE twins SET slug = ?, dt_id = ?, name = ?, modified_ns = ? WHERE id = ?",
+            (w.slug, w.dt_id, w.name, w.modified_ns, twin_id),
+        )
+    c.execute("DELETE FROM twin_parts WHERE twin_id = ?", (twin_id,))
+    c.executemany(
+        "INSERT INTO twin_parts(twin_id, privacy, body) VALUES (?, ?, ?)",
+        [(twin_id, level, orjson.dumps(body).decode()) for level, body in w.parts.items()],
+    )
+    c.execute("DELETE FROM relations WHERE declared_by = ?", (w.dt_id,))
+    c.executemany(
+        "INSERT OR REPLACE INTO relations(source, kind, target, declared_by, privacy)"
+        " VALUES (?, ?, ?, ?, ?)",
+        [(e.source, e.kind, e.target, e.declared_by, e.privacy) for e in w.edges],
+    )
+    write_search_rows(c, twin_id, w.search_rows)
+    return twin_id
+
+
+def _in_cycle(c: sqlite3.Connection, dt_id: str) -> bool:
+    """True when `dt_id` can reach itself along parent->child edges (UNION stops on revisits)."""
+    row = c.execute(
+        "WITH RECURSIVE d(id) AS ("
+        " SELECT target FROM relations WHERE source = ? AND kind = 'parent'"
+        " UNION SELECT r.target FROM relations r JOIN d ON r.source = d.id WHERE r.kind = 'parent')"
+        " SELECT 1 FROM d WHERE id = ? LIMIT 1",
+        (dt_id, dt_id),
+    ).fetchone()
+    return row is not None

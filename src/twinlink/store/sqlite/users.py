@@ -167,6 +167,17 @@ class UserTables:
         )
         return _token(row) if row else None
 
+    async def revoke_tokens(self, user_id: int, kind: str, now_ns: int) -> int:
+        return await self.db.write(
+            lambda c: (
+                c.execute(
+                    "UPDATE api_tokens SET revoked_ns = ? WHERE user_id = ? AND kind = ?"
+                    " AND revoked_ns IS NULL",
+                    (now_ns, user_id, kind),
+                ).rowcount
+            )
+        )
+
     async def revoke_token(self, token_id: int, now_ns: int) -> bool:
         return await self.db.write(
             lambda c: (

@@ -1,0 +1,189 @@
+"""Apply: turn grouped document parts into one atomic write of one or more twins."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from twinlink.auth.rights import Principal, has_role, may_see_level
+from twinlink.domain.document import validate_part
+from twinlink.domain.errors import ConflictError, DocumentError, ForbiddenError, NotFoundError
+from twinlink.domain.slug import SLUG, slug_for
+from twinlink.domain.yamlsource import SourceDocument
+from twinlink.registry.build import declared_edges, imported_created_ns, search_rows
+from twinlink.registry.documents import REFUSED, TwinParts
+from twinlink.store.base import MetadataStore
+from twinlink.store.records import Edge, TwinRecord, TwinWrite
+
+Outcome = Literal["created", "updated", "unchanged"]
+Mode = Literal["apply", "create", "update"]
+
+
+@dataclass(slots=True)
+class Applied:
+    twin: TwinRecord
+    outcome: Outcome
+    levels: list[str]
+
+
+@dataclass(slots=True)
+class _Plan:
+    existing: TwinRecord | None
+    write: TwinWrite | None  # None: unchanged
+
+
+class Applier:
+    """Plans every twin of a request (rights, conflicts, slugs) before anything is written,
+    then writes them all in one transaction; the store refuses composition cycles in it."""
+
+    def __init__(self, store: MetadataStore, canonical_url: Any) -> None:
+        self.store = store
+        self.canonical_url = canonical_url
+
+    async def apply(
+        self, principal: Principal, groups: list[TwinParts], slug: str | None, mode: Mode
+    ) -> list[Applied]:
+        reserved: set[str] = set()  # slugs taken by new twins earlier in this request
+        plans = [await self._plan(principal, g, slug, mode, reserved) for g in groups]
+        return await self.write(plans)
+
+    async def write(self, plans: list[_Plan]) -> list[Applied]:
+        records = iter(await self.store.save_twins([p.write for p in plans if p.write]))
+        out = []
+        for p in plans:
+            if p.write is None:
+                assert p.existing is not None
+                out.append(Applied(p.existing, "unchanged", p.existing.levels))
+            else:
+                outcome: Outcome = "created" if p.existing is None else "updated"
+                out.append(Applied(next(records), outcome, sorted(p.write.parts)))
+        return out
+
+    async def _plan(
+        self,
+        principal: Principal,
+        group: TwinParts,
+        slug: str | None,
+        mode: Mode,
+        reserved: set[str],
+    ) -> _Plan:
+        existing = await self._find(group, slug, mode)
+        if existing is not None:
+            await self._may_change(principal, existing)
+            new_slug = slug or group.explicit_slug or existing.slug
+            if new_slug != existing.slug and (
+                new_slug in reserved or await self.store.get_twin(new_slug)
+            ):
+                raise ConflictError(f"cannot rename {existing.slug!r}: {new_slug!r} is taken")
+            dt_id = existing.dt_id
+            parts = await self.store.get_parts(existing.id)
+            created = existing.created_ns
+        else:
+            part = group.first[0]
+            new_slug = slug_for(
+                slug or group.explicit_slug, part.hosting_iri, group.global_id, part.name
+            )
+            if new_slug in reserved or await self.store.get_twin(new_slug) is not None:
+                new_slug = await self._free_slug(new_slug, reserved)
+            dt_id = group.global_id or self.canonical_url(new_slug)
+            parts = {}
+            imported = [imported_created_ns(src.data) for _, _, src in group.parts.values()]
+            created = next((c for c in imported if c is not None), time.time_ns())
+        if not SLUG.match(new_slug):
+            raise DocumentError(
+                REFUSED,
+                [
+                    group.first[2].problem(
+                        f"slug {new_slug!r} must be 1-64 lowercase letters, digits and dashes",
+                        ("slug",),
+                    )
+                ],
+            )
+        reserved.add(new_slug)
+        for level, (_, body, _) in group.parts.items():
+            parts[level] = body
+        return await self.plan_write(principal, existing, new_slug, dt_id, parts, created)
+
+    async def plan_write(
+        self,
+        principal: Principal,
+        existing: TwinRecord | None,
+        slug: str,
+        dt_id: str,
+        parts: dict[str, dict[str, Any]],
+        created_ns: int,
+    ) -> _Plan:
+        models = {level: validate_part(SourceDocument(body))[0] for level, body in parts.items()}
+        edges = declared_edges(dt_id, models)
+        if existing is not None and existing.slug == slug:
+            old_parts = await self.store.get_parts(existing.id)
+            old_edges = [
+                e for e in await self.store.edges_touching([dt_id]) if e.declared_by == dt_id
+            ]
+            if old_parts == parts and _edge_keys(old_edges) == _edge_keys(edges):
+                return _Plan(existing, None)
+        write = TwinWrite(
+            slug=slug,
+            dt_id=dt_id,
+            # Listings show the public part's name only, so a private name never leaks; a twin
+            # without a named public part is listed by its slug.
+            name=_public_name(parts) or slug,
+            created_ns=created_ns,
+            modified_ns=time.time_ns(),
+            parts=parts,
+            edges=edges,
+            search_rows=search_rows(parts),
+            owner_user_id=principal.user.id if existing is None and principal.user else None,
+            twin_id=existing.id if existing else None,
+        )
+        return _Plan(existing, write)
+
+    async def _find(self, group: TwinParts, slug: str | None, mode: Mode) -> TwinRecord | None:
+        dt_id = group.global_id
+        explicit = slug or group.explicit_slug
+        existing = await self.store.get_twin_by_dt_id(dt_id) if dt_id else None
+        if existing is None and explicit:
+            existing = await self.store.get_twin(explicit)
+            if existing is not None and dt_id and existing.dt_id != dt_id:
+                raise ConflictError(f"the slug {explicit!r} belongs to another twin")
+        if existing is None and not dt_id:
+            part = group.first[0]
+            existing = await self.store.get_twin(
+                slug_for(explicit, part.hosting_iri, None, part.name)
+            )
+        if mode == "create" and existing is not None:
+            raise ConflictError(
+                f"the twin {existing.slug!r} already exists; use apply or PUT to change it"
+            )
+        if mode == "update" and existing is None:
+            raise NotFoundError(f"no twin {slug!r}")
+        if existing is not None and slug is not None and existing.slug != slug:
+            raise ConflictError(f"the document's id belongs to another twin than {slug!r}")
+        return existing
+
+    async def _may_change(self, principal: Principal, twin: TwinRecord) -> None:
+        assert principal.user is not None
+        role = await self.store.get_role(twin.id, principal.user.id)
+        if has_role(principal, role, "editor"):
+            return
+        if not any(may_see_level(principal, role, level) for level in twin.levels):
+            # The id is taken, which cannot be hidden; the twin's slug and content can.
+            raise ForbiddenError("the document's id belongs to a twin you may not change")
+        raise ForbiddenError(f"changing {twin.slug!r} needs the editor role")
+
+    async def _free_slug(self, base: str, reserved: set[str]) -> str:
+        for n in range(2, 10_000):
+            candidate = f"{base[:58]}-{n}"
+            if candidate not in reserved and await self.store.get_twin(candidate) is None:
+                return candidate
+        raise ConflictError(f"no free slug near {base!r}")
+
+
+def _edge_keys(edges: list[Edge]) -> set[tuple[str, str, str, str]]:
+    return {(e.source, e.kind, e.target, e.privacy) for e in edges}
+
+
+def _public_name(parts: dict[str, dict[str, Any]]) -> str:
+    name = parts.get("public", {}).get("name")
+    return name if isinstance(name, str) else ""
