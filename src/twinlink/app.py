@@ -8,7 +8,6 @@ from contextlib import asynccontextmanager
 from dataclasses import dataclass
 
 from fastapi import FastAPI
-from fastapi.responses import ORJSONResponse
 
 from twinlink import __version__
 from twinlink.api import apidocs, auth, pages, problems, search, system, twins
@@ -76,7 +75,6 @@ def create_app(
         "Every endpoint needs `Authorization: Bearer <token>` except /healthz, login and "
         "public DT documents.",
         lifespan=lifespan,
-        default_response_class=ORJSONResponse,
         docs_url=None,
         redoc_url=None,
         openapi_url=None,  # served by api.apidocs, behind a token

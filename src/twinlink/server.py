@@ -35,7 +35,11 @@ def serve(
     on_bootstrap: Callable[[Bootstrap], None] = print_bootstrap,
 ) -> None:
     setup_logging(settings.log_level, settings.log_format)
-    sock = socket.socket(socket.AF_INET6 if ":" in settings.host else socket.AF_INET)
+    family = socket.AF_INET6 if ":" in settings.host else socket.AF_INET
+    # Naming IPPROTO_TCP matters: asyncio sets TCP_NODELAY on accepted connections only when
+    # the listening socket says it is TCP; without it Nagle's algorithm and delayed ACKs add
+    # ~40 ms to every keep-alive request after the first.
+    sock = socket.socket(family, socket.SOCK_STREAM, socket.IPPROTO_TCP)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((settings.host, settings.port))
     # Listen before startup so a client that saw "serving at" is queued, never refused.

@@ -13,7 +13,13 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.responses import Response
 
 from twinlink.auth.service import AuthError, LoginError
-from twinlink.domain.errors import ConflictError, DocumentError, ForbiddenError, NotFoundError
+from twinlink.domain.errors import (
+    ConflictError,
+    DocumentError,
+    DocumentTooLargeError,
+    ForbiddenError,
+    NotFoundError,
+)
 
 log = logging.getLogger("twinlink.api")
 PROBLEM = "application/problem+json"
@@ -64,7 +70,7 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(DocumentError)
     async def _document(_: Request, exc: DocumentError) -> Response:
-        status = 413 if "limit is" in exc.title else 422
+        status = 413 if isinstance(exc, DocumentTooLargeError) else 422
         first = exc.problems[0] if exc.problems else None
         detail = exc.title if first is None else f"{exc.title} First: {first}"
         return problem(status, detail, errors=[p.as_dict() for p in exc.problems])

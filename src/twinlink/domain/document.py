@@ -242,6 +242,8 @@ def _plain_data_problems(value: Any, path: Path, source: SourceDocument) -> list
             for i, item in enumerate(value)
             for p in _plain_data_problems(item, (*path, i), source)
         ]
+    if isinstance(value, int) and not isinstance(value, bool) and not -(2**63) <= value < 2**63:
+        return [source.problem("integers must fit in 64 bits; quote the number to keep it", path)]
     if isinstance(value, float) and not math.isfinite(value):
         return [source.problem("not-a-number and infinite values are not allowed", path)]
     if value is None or isinstance(value, str | int | float | bool):

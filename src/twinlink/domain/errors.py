@@ -42,6 +42,10 @@ class DocumentError(Exception):
         return "\n".join(lines)
 
 
+class DocumentTooLargeError(DocumentError):
+    """The request body is over the configured size limit (HTTP 413)."""
+
+
 class NotFoundError(LookupError):
     """The thing asked for does not exist (or the caller may not know that it does)."""
 

@@ -68,9 +68,8 @@ class Applier:
         mode: Mode,
         reserved: set[str],
     ) -> _Plan:
-        existing = await self._find(group, slug, mode)
+        existing = await self._find(principal, group, slug, mode)
         if existing is not None:
-            await self._may_change(principal, existing)
             new_slug = slug or group.explicit_slug or existing.slug
             if new_slug != existing.slug and (
                 new_slug in reserved or await self.store.get_twin(new_slug)
@@ -139,7 +138,9 @@ class Applier:
         )
         return _Plan(existing, write)
 
-    async def _find(self, group: TwinParts, slug: str | None, mode: Mode) -> TwinRecord | None:
+    async def _find(
+        self, principal: Principal, group: TwinParts, slug: str | None, mode: Mode
+    ) -> TwinRecord | None:
         dt_id = group.global_id
         explicit = slug or group.explicit_slug
         existing = await self.store.get_twin_by_dt_id(dt_id) if dt_id else None
@@ -152,6 +153,8 @@ class Applier:
             existing = await self.store.get_twin(
                 slug_for(explicit, part.hosting_iri, None, part.name)
             )
+        if existing is not None:
+            await self._may_change(principal, existing, mode, slug)
         if mode == "create" and existing is not None:
             raise ConflictError(
                 f"the twin {existing.slug!r} already exists; use apply or PUT to change it"
@@ -162,14 +165,20 @@ class Applier:
             raise ConflictError(f"the document's id belongs to another twin than {slug!r}")
         return existing
 
-    async def _may_change(self, principal: Principal, twin: TwinRecord) -> None:
+    async def _may_change(
+        self, principal: Principal, twin: TwinRecord, mode: Mode, slug: str | None
+    ) -> None:
+        """Editors may change a twin. A twin the caller may not see stays hidden: addressed by
+        slug it does not exist (404); addressed by id, the id is taken, which cannot be
+        hidden, but its slug and content are not named."""
         assert principal.user is not None
         role = await self.store.get_role(twin.id, principal.user.id)
         if has_role(principal, role, "editor"):
             return
         if not any(may_see_level(principal, role, level) for level in twin.levels):
-            # The id is taken, which cannot be hidden; the twin's slug and content can.
-            raise ForbiddenError("the document's id belongs to a twin you may not change")
+            if mode == "update":
+                raise NotFoundError(f"no twin {slug!r}")
+            raise ForbiddenError("the document names a twin (by id or slug) you may not change")
         raise ForbiddenError(f"changing {twin.slug!r} needs the editor role")
 
     async def _free_slug(self, base: str, reserved: set[str]) -> str:

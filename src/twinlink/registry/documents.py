@@ -8,7 +8,7 @@ from typing import Any
 import orjson
 
 from twinlink.domain.document import DocumentPart, validate_part
-from twinlink.domain.errors import DocumentError, Problem
+from twinlink.domain.errors import DocumentError, DocumentTooLargeError, Problem
 from twinlink.domain.slug import slug_for
 from twinlink.domain.yamlsource import SourceDocument, parse_yaml_stream
 
@@ -38,7 +38,7 @@ class TwinParts:
 def parse_documents(body: bytes, content_type: str, max_bytes: int) -> list[SourceDocument]:
     """YAML (one or many documents) or JSON (an object or a list of objects)."""
     if len(body) > max_bytes:
-        raise DocumentError(
+        raise DocumentTooLargeError(
             f"The document is larger than the limit of {max_bytes} bytes"
             " (TWINLINK_MAX_DOCUMENT_BYTES)."
         )
