@@ -5,16 +5,18 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from twinlink.app import Services
-from twinlink.auth.rights import Principal
-from twinlink.auth.service import Bootstrap
 from twinlink.config import load_settings
-from twinlink.domain.errors import ConflictError, DocumentError
-from twinlink.registry.documents import parse_documents
+
+if TYPE_CHECKING:
+    from twinlink.app import Services
+    from twinlink.auth.service import Bootstrap
+
+# The server's modules are imported inside the commands, so `twinlink --help` and the
+# client commands start without loading the web framework.
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -60,6 +62,10 @@ def example_files(folder: Path) -> list[Path]:
 
 async def load_examples(services: Services, folder: Path) -> list[str]:
     """Apply every example document as the admin; already-loaded ones stay unchanged."""
+    from twinlink.auth.rights import Principal
+    from twinlink.domain.errors import ConflictError, DocumentError
+    from twinlink.registry.documents import parse_documents
+
     admin = await services.store.get_user_by_name("admin")
     if admin is None:
         return []

@@ -6,6 +6,7 @@ every request be checked with one indexed lookup; passwords are low-entropy and 
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import secrets
 
@@ -15,7 +16,11 @@ from argon2.exceptions import InvalidHashError, VerificationError
 TOKEN_PREFIX = "tl_"
 _hasher = PasswordHasher()
 # Verifying against this when the user does not exist keeps the timing the same.
-_DUMMY_HASH = _hasher.hash("twinlink-timing-equaliser")
+
+
+@functools.cache
+def _dummy_hash() -> str:
+    return _hasher.hash("twinlink-timing-equaliser")
 
 
 def hash_password(password: str) -> str:
@@ -24,7 +29,9 @@ def hash_password(password: str) -> str:
 
 def verify_password(password_hash: str | None, password: str) -> bool:
     try:
-        return _hasher.verify(password_hash or _DUMMY_HASH, password) and password_hash is not None
+        return (
+            _hasher.verify(password_hash or _dummy_hash(), password) and password_hash is not None
+        )
     except (VerificationError, InvalidHashError):
         return False
 
