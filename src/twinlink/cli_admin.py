@@ -152,14 +152,26 @@ def users_ls(ctx: click.Context) -> None:
 
 @users.command("add")
 @click.argument("username")
-@click.option("--password", prompt=True, hide_input=True, confirmation_prompt=True)
+@click.option("--password", help="Password (at least 8 characters; prompted if left out).")
+@click.option(
+    "--no-password",
+    is_flag=True,
+    help="No password: the user signs in only with tokens an admin creates (service accounts).",
+)
 @click.option("--admin", is_flag=True, help="Make the user a platform admin.")
 @click.option("-g", "--group", "groups", multiple=True, help="User group (repeatable).")
 @click.pass_context
 def users_add(
-    ctx: click.Context, username: str, password: str, admin: bool, groups: tuple[str, ...]
+    ctx: click.Context,
+    username: str,
+    password: str | None,
+    no_password: bool,
+    admin: bool,
+    groups: tuple[str, ...],
 ) -> None:
     """Create a user."""
+    if password is None and not no_password:
+        password = click.prompt("Password", hide_input=True, confirmation_prompt=True)
     _client(ctx).json(
         "POST",
         "/api/v1/users",

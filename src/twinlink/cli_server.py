@@ -100,9 +100,9 @@ def demo(
     """Run the server with the example twins loaded (data in ./.twinlink-demo)."""
     from twinlink.server import print_bootstrap, serve
 
-    settings = load_settings(
-        config_file, host=host, port=port, data_dir=data_dir or Path(".twinlink-demo")
-    )
+    settings = load_settings(config_file, host=host, port=port, data_dir=data_dir)
+    if "data_dir" not in settings.model_fields_set:
+        settings.data_dir = Path(".twinlink-demo")  # unless a flag, variable or file says
 
     secrets_file = settings.data_dir / "admin-credentials.txt"
 

@@ -11,7 +11,7 @@ import uvicorn
 
 from twinlink.app import Services, create_app
 from twinlink.auth.service import Bootstrap
-from twinlink.config import Settings
+from twinlink.config import ConfigError, Settings
 from twinlink.logs import setup_logging
 
 
@@ -41,7 +41,13 @@ def serve(
     # ~40 ms to every keep-alive request after the first.
     sock = socket.socket(family, socket.SOCK_STREAM, socket.IPPROTO_TCP)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-    sock.bind((settings.host, settings.port))
+    try:
+        sock.bind((settings.host, settings.port))
+    except OSError as err:
+        sock.close()
+        raise ConfigError(
+            f"cannot listen on {settings.host}:{settings.port}: {err.strerror}"
+        ) from None
     # Listen before startup so a client that saw "serving at" is queued, never refused.
     sock.listen(2048)
     if settings.port == 0:

@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
 
 from twinlink.domain.errors import DocumentError, Problem
-from twinlink.domain.yamlsource import Path, SourceDocument
+from twinlink.domain.yamlsource import MAX_DEPTH, Path, SourceDocument
 
 SUPPORTED_VERSION = re.compile(r"^(0|1)(\.\d+){0,2}$")
 PRIVACY_LEVEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$")
@@ -226,6 +226,8 @@ def _duplicates(items: Any, path: Path, what: str, source: SourceDocument) -> li
 
 def _plain_data_problems(value: Any, path: Path, source: SourceDocument) -> list[Problem]:
     """A DT document is plain data (JSON's types): text keys, no binary, dates or sets."""
+    if len(path) > MAX_DEPTH:
+        return [source.problem(f"nested more than {MAX_DEPTH} levels deep", path[:MAX_DEPTH])]
     if isinstance(value, dict):
         out = []
         for key, item in value.items():

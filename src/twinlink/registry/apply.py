@@ -84,6 +84,8 @@ class Applier:
                 slug or group.explicit_slug, part.hosting_iri, group.global_id, part.name
             )
             if new_slug in reserved or await self.store.get_twin(new_slug) is not None:
+                if slug or group.explicit_slug:
+                    raise ConflictError(f"the slug {new_slug!r} is asked for twice or taken")
                 new_slug = await self._free_slug(new_slug, reserved)
             dt_id = group.global_id or self.canonical_url(new_slug)
             parts = {}
