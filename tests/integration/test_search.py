@@ -321,3 +321,13 @@ def _no_server_errors(server: Server) -> Iterator[None]:
     before = unhandled_errors(server)
     yield
     assert unhandled_errors(server) == before, f"the server logged: {last_error(server)}"
+
+
+def test_the_id_is_searchable_and_one_letter_is_no_wildcard(server: Server) -> None:
+    apply_examples(server)
+    with server.admin as admin:
+        hits = admin.get("/api/v1/search", params={"q": "K16052"}).json()["hits"]
+        assert [h["slug"] for h in hits] == [CRANE_SLUG]
+        every = admin.get("/api/v1/search", params={"q": "", "limit": 200}).json()["total"]
+        one_letter = admin.get("/api/v1/search", params={"q": "q"}).json()["total"]
+    assert one_letter < every
