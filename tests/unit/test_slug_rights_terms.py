@@ -6,6 +6,7 @@ from twinlink.auth.rights import ANONYMOUS, Principal, has_role, may_see_level
 from twinlink.domain.slug import SLUG, slug_for, slugify
 from twinlink.search.service import query_terms
 from twinlink.store.records import User
+from twinlink.store.sqlite.search import Highlighter, fts_phrase, match_expression
 
 
 def user(admin: bool = False, groups: tuple[str, ...] = ()) -> Principal:
@@ -60,8 +61,31 @@ def test_has_role_ranks() -> None:
     assert has_role(user(admin=True), None, "owner")
 
 
-def test_query_terms_are_quoted_prefixes_without_fts_syntax() -> None:
-    assert query_terms('CAD "model" OR crane*') == ['"cad"*', '"model"*', '"or"*', '"crane"*']
+def test_query_terms_are_plain_words() -> None:
+    assert query_terms('CAD "model" OR crane* cad') == ["cad", "model", "or", "crane"]
     assert query_terms("  ") == []
-    assert query_terms("d-t.fi") == ['"d"', '"t"', '"fi"*']  # one letter: exact, not a prefix
+    assert query_terms("d-t.fi") == ["d", "t", "fi"]
     assert len(query_terms(" ".join(f"w{i}" for i in range(20)))) == 8
+
+
+def test_fts_expression_quotes_words_and_keeps_one_letter_exact() -> None:
+    assert fts_phrase('a"b') == '"a""b"*'
+    assert fts_phrase("d") == '"d"'
+    assert fts_phrase("cad", prefix=False) == '"cad"'
+    assert match_expression(["cad", "x"]) == (
+        '(({name features keywords description} : "cad"*) OR ({extra} : "cad"))'
+        ' AND (({name features keywords description} : "x") OR ({extra} : "x"))'
+    )
+
+
+def test_highlighter_marks_prefixes_and_escapes() -> None:
+    h = Highlighter(["cad", "st"])
+    assert h.snippet(["Crane <b>CAD</b> store"], "") == (
+        "Crane &lt;b&gt;<mark>CAD</mark>&lt;/b&gt; <mark>store</mark>"
+    )
+    assert h.snippet(["nothing here"], "a cadence") is None  # extra: whole words only
+    assert Highlighter(["saatio"]).snippet(["Säätiö owns it"], "") == "<mark>Säätiö</mark> owns it"
+    long = " ".join(f"w{i}" for i in range(30)) + " cad " + " ".join(f"v{i}" for i in range(30))
+    snippet = Highlighter(["cad"]).snippet([long], "")
+    assert snippet is not None and snippet.startswith("…") and snippet.endswith("…")
+    assert snippet.count(" ") == 9

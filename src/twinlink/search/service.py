@@ -7,16 +7,17 @@ from typing import Any
 
 from twinlink.auth.rights import Principal
 from twinlink.store.base import MetadataStore
+from twinlink.store.sqlite.search import FACET_SAMPLE
 
 _WORD = re.compile(r"\w+", re.UNICODE)
 MAX_TERMS = 8
 
 
 def query_terms(text: str) -> list[str]:
-    """Each word becomes a prefix match, so "histor" finds "historical" as you type. A single
-    character matches only itself: as a prefix it would match nearly everything."""
-    words = list(dict.fromkeys(w.lower() for w in _WORD.findall(text)))[:MAX_TERMS]
-    return [f'"{w}"*' if len(w) > 1 else f'"{w}"' for w in words]
+    """The words of a query, lower-cased, without repeats, at most MAX_TERMS. The store
+    matches each as a prefix ("histor" finds "historical" as you type), except one letter,
+    which as a prefix would match nearly everything."""
+    return list(dict.fromkeys(w.lower() for w in _WORD.findall(text)))[:MAX_TERMS]
 
 
 class SearchService:
@@ -36,5 +37,8 @@ class SearchService:
             "limit": limit,
             "offset": offset,
             "hits": result.hits,
-            "facets": {"keywords": [{"value": k, "count": n} for k, n in result.facets]},
+            "facets": {
+                "keywords": [{"value": k, "count": n} for k, n in result.facets],
+                "counted_hits": min(result.total, FACET_SAMPLE),
+            },
         }

@@ -1,66 +1,108 @@
-"""Full-text search over twins and features with SQLite FTS5.
+"""Full-text search over twins and features with SQLite FTS5 (tables: 0002_search.sql).
 
-One row per (twin, privacy part, feature); the twin's own fields form a row with no feature.
-A query is one FTS expression per term; a twin is a hit when every term matches some row of
-it the reader may see, so "crane CAD" finds the crane even though "crane" is in its name and
-"CAD" in a feature's keywords.
+A twin is a hit when every word of the query matches one privacy part of it the reader may
+see, so "crane CAD" finds the crane although "crane" is in its name and "CAD" in a feature's
+keywords. Hits are ranked by bm25 over one document per part, with weights name 10, feature
+names 6, keywords 5, descriptions 2, other text 1; the features that matched are then looked
+up for the page of hits only.
 """
 
 from __future__ import annotations
 
 import html
+import re
 import sqlite3
-from collections import defaultdict
-from dataclasses import dataclass, field
+import unicodedata
+from collections import Counter
 from typing import Any
 
+from twinlink.domain.merge import level_order
 from twinlink.store.records import SearchResult, SearchRow, Visibility
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.visibility import part_visible
 
-# bm25 column weights: name, description, keywords, extra. A match in a name or keyword says
-# more about what a feature holds than one in a long description.
-_WEIGHTS = "10.0, 2.0, 6.0, 1.0"
-_TWIN_ROW_BOOST = 1.5  # a term in the twin's own name/description outranks one in a feature
-# Snippets are marked with private-use characters, then HTML-escaped, then the marks become
-# <mark> tags: a document's own text can never inject markup into a search result.
-_OPEN, _CLOSE = "\ue000", "\ue001"
-_SNIPPET = f"snippet(search_fts, -1, '{_OPEN}', '{_CLOSE}', '…', 10)"
+FACET_SAMPLE = 100  # facets count the best this many hits
+# Keywords are kept apart by a line break, which the tokenizer reads as a separator, so the
+# facets can be read back from the index as whole keywords ("emergency stop").
+_KEYWORD_SEP = "\n"
+SLOTS = 32  # privacy parts a twin may have in the search index
+_SHIFT = 5  # log2(SLOTS)
 
-
-def _safe_snippet(text: str) -> str:
-    return html.escape(text).replace(_OPEN, "<mark>").replace(_CLOSE, "</mark>")
+# Snippets are built from escaped text, so a document can never inject markup into a result.
+_TOKEN = re.compile(r"\w+", re.UNICODE)
+_SNIPPET_TOKENS = 10
 
 
 def write_search_rows(c: sqlite3.Connection, twin_id: int, rows: list[SearchRow]) -> None:
-    c.execute(
-        "DELETE FROM search_fts WHERE rowid IN (SELECT id FROM search_rows WHERE twin_id = ?)",
-        (twin_id,),
-    )
-    c.execute("DELETE FROM search_rows WHERE twin_id = ?", (twin_id,))
+    delete_search_rows(c, twin_id)
+    levels = sorted({r.privacy for r in rows}, key=level_order)
+    if len(levels) > SLOTS or (len(levels) == SLOTS and "public" not in levels):
+        raise ValueError(f"a twin may have at most {SLOTS - 1} non-public privacy parts")
+    slots = {lv: i + (lv != "public" and "public" not in levels) for i, lv in enumerate(levels)}
+    parts: dict[str, dict[str, list[str]]] = {}
     for row in rows:
         row_id = c.execute(
             "INSERT INTO search_rows(twin_id, privacy, feature) VALUES (?, ?, ?)",
             (twin_id, row.privacy, row.feature),
         ).lastrowid
+        keywords = _KEYWORD_SEP.join(row.keywords)
         c.execute(
             "INSERT INTO search_fts(rowid, name, description, keywords, extra)"
             " VALUES (?, ?, ?, ?, ?)",
-            (row_id, row.name, row.description, " ".join(row.keywords), row.extra),
+            (row_id, row.name, row.description, keywords, row.extra),
         )
         c.executemany(
             "INSERT INTO search_keywords(row_id, keyword) VALUES (?, ?)",
             [(row_id, k) for k in dict.fromkeys(row.keywords)],
         )
+        doc = parts.setdefault(
+            row.privacy, {k: [] for k in ("name", "features", "kw", "desc", "x")}
+        )
+        doc["name" if row.feature is None else "features"].append(row.name)
+        doc["kw"].append(keywords)
+        doc["desc"].append(row.description)
+        doc["x"].append(row.extra)
+    for level, doc in parts.items():
+        doc_id = (twin_id << _SHIFT) + slots[level]
+        c.execute(
+            "INSERT INTO search_parts(id, twin_id, privacy) VALUES (?, ?, ?)",
+            (doc_id, twin_id, level),
+        )
+        c.execute(
+            "INSERT INTO search_twins(rowid, name, features, keywords, description, extra)"
+            " VALUES (?, ?, ?, ?, ?, ?)",
+            (doc_id, *(_KEYWORD_SEP.join(doc[k]) for k in ("name", "features", "kw", "desc", "x"))),
+        )
 
 
-@dataclass(slots=True)
-class _Twin:
-    score: float = 0.0
-    terms: set[int] = field(default_factory=set)
-    rows: dict[int, tuple[str | None, str]] = field(
-        default_factory=dict
-    )  # rowid -> feature, privacy
+def delete_search_rows(c: sqlite3.Connection, twin_id: int) -> None:
+    c.execute(
+        "DELETE FROM search_fts WHERE rowid IN (SELECT id FROM search_rows WHERE twin_id = ?)",
+        (twin_id,),
+    )
+    c.execute("DELETE FROM search_rows WHERE twin_id = ?", (twin_id,))
+    c.execute(
+        "DELETE FROM search_twins WHERE rowid IN (SELECT id FROM search_parts WHERE twin_id = ?)",
+        (twin_id,),
+    )
+    c.execute("DELETE FROM search_parts WHERE twin_id = ?", (twin_id,))
+
+
+def fts_phrase(word: str, prefix: bool = True) -> str:
+    """One word as an FTS5 string, quoted so it is never read as query syntax. A prefix match
+    for words of two letters or more; one letter as a prefix would match nearly everything."""
+    quoted = '"' + word.replace('"', '""') + '"'
+    return quoted + "*" if prefix and len(word) > 1 else quoted
+
+
+def match_expression(words: list[str]) -> str:
+    """Every word must match. `extra` (addresses, requirements, contacts) matches nearly any
+    prefix, so there a word must match whole."""
+    return " AND ".join(
+        f"(({{name features keywords description}} : {fts_phrase(w)}) OR ({{extra}} : "
+        f"{fts_phrase(w, prefix=False)}))"
+        for w in words
+    )
 
 
 class SearchTables:
@@ -77,124 +119,238 @@ class SearchTables:
         facet_limit: int = 25,
     ) -> SearchResult:
         return await self.db.read(
-            lambda c: _search(c, vis, terms, keyword, limit, offset, facet_limit)
+            lambda c: _Search(c, vis, keyword).run(terms, limit, offset, facet_limit)
         )
 
 
-def _search(
-    c: sqlite3.Connection,
-    vis: Visibility,
-    terms: list[str],
-    keyword: str | None,
-    limit: int,
-    offset: int,
-    facet_limit: int,
-) -> SearchResult:
-    visible, vis_args = part_visible(vis, "s.twin_id", "s.privacy")
-    kw_sql, kw_args = "", []
-    if keyword:
-        kw_sql = (
-            " AND s.twin_id IN (SELECT s2.twin_id FROM search_rows s2 JOIN search_keywords k"
-            " ON k.row_id = s2.id WHERE k.keyword = ? AND "
-            + part_visible(vis, "s2.twin_id", "s2.privacy")[0]
-            + ")"
-        )
-        kw_args = [keyword, *part_visible(vis, "s2.twin_id", "s2.privacy")[1]]
+class _Search:
+    def __init__(self, c: sqlite3.Connection, vis: Visibility, keyword: str | None) -> None:
+        self.c = c
+        self.vis = vis
+        self.keyword = keyword
 
-    twins: dict[int, _Twin] = defaultdict(_Twin)
-    if terms:
-        for i, term in enumerate(terms):
-            rows = c.execute(
-                f"SELECT s.id, s.twin_id, s.feature, s.privacy, bm25(search_fts, {_WEIGHTS}) AS r"
-                " FROM search_fts JOIN search_rows s ON s.id = search_fts.rowid"
-                f" WHERE search_fts MATCH ? AND {visible}{kw_sql}",
-                [term, *vis_args, *kw_args],
-            ).fetchall()
-            best: dict[int, float] = {}
-            for row_id, twin_id, feature, privacy, rank in rows:
-                score = -rank * (_TWIN_ROW_BOOST if feature is None else 1.0)
-                best[twin_id] = max(best.get(twin_id, 0.0), score)
-                twins[twin_id].rows[row_id] = (feature, privacy)
-            for twin_id, score in best.items():
-                twins[twin_id].score += score
-                twins[twin_id].terms.add(i)
-        matched = {t: v for t, v in twins.items() if len(v.terms) == len(terms)}
-    else:
-        rows = c.execute(
-            f"SELECT DISTINCT s.twin_id FROM search_rows s WHERE {visible}{kw_sql}",
-            [*vis_args, *kw_args],
-        ).fetchall()
-        matched = {r[0]: _Twin() for r in rows}
-
-    names = _names(c, list(matched))
-    order = sorted(matched, key=lambda t: (-matched[t].score, names[t][1].lower()))
-    page = order[offset : offset + limit]
-    snippets = _snippets(c, terms, [r for t in page for r in matched[t].rows])
-    hits = []
-    for twin_id in page:
-        slug, name = names[twin_id]
-        features: dict[str | None, dict[str, Any]] = {}
-        for row_id, (feature, privacy) in matched[twin_id].rows.items():
-            entry = features.setdefault(feature, {"feature": feature, "privacy": privacy})
-            if row_id in snippets and "snippet" not in entry:
-                entry["snippet"] = snippets[row_id]
-        hits.append(
+    def run(self, terms: list[str], limit: int, offset: int, facet_limit: int) -> SearchResult:
+        want = max(offset + limit, FACET_SAMPLE)
+        ranked, total = self._ranked(terms, want) if terms else self._all()
+        page = ranked[offset : offset + limit]
+        names = self._names(page)
+        matches = self._matches(page, terms) if terms else {}
+        hits = [
             {
-                "slug": slug,
-                "name": name,
-                "score": round(matched[twin_id].score, 4),
-                "matches": sorted(features.values(), key=lambda m: (m["feature"] is not None,)),
+                "slug": names[t][0],
+                "name": names[t][1],
+                "score": round(score, 3),
+                "matches": matches.get(t, []),
             }
+            for t, score in page
+        ]
+        facets = self._facets([t for t, _ in ranked[:FACET_SAMPLE]], facet_limit)
+        return SearchResult(total=total, hits=hits, facets=facets)
+
+    def _keyword_filter(self, twin_expr: str) -> tuple[str, list[object]]:
+        if not self.keyword:
+            return "", []
+        visible, args = part_visible(self.vis, "s.twin_id", "s.privacy")
+        return (
+            f" AND {twin_expr} IN (SELECT s.twin_id FROM search_keywords k JOIN search_rows s"
+            f" ON s.id = k.row_id WHERE k.keyword = ? AND {visible})",
+            [self.keyword, *args],
         )
-    return SearchResult(total=len(order), hits=hits, facets=_facets(c, vis, order, facet_limit))
 
+    def _doc_filters(self) -> tuple[str, list[object]]:
+        """Keeps the search_twins documents (parts) the reader may see; public parts (slot 0)
+        pass without a lookup."""
+        sql, args = self._keyword_filter(f"(rowid >> {_SHIFT})")
+        if self.vis.is_admin:
+            return sql, args
+        visible, vis_args = part_visible(self.vis, "p.twin_id", "p.privacy")
+        return (
+            # Uncorrelated, so SQLite builds the set of the reader's non-public parts once.
+            f" AND (rowid & {SLOTS - 1} = 0 OR rowid IN (SELECT p.id FROM search_parts p"
+            f" WHERE p.privacy <> 'public' AND {visible})){sql}",
+            [*vis_args, *args],
+        )
 
-def _names(c: sqlite3.Connection, twin_ids: list[int]) -> dict[int, tuple[str, str]]:
-    out: dict[int, tuple[str, str]] = {}
-    for chunk in _chunks(twin_ids):
-        marks = ", ".join("?" * len(chunk))
-        for row in c.execute(f"SELECT id, slug, name FROM twins WHERE id IN ({marks})", chunk):
-            out[row[0]] = (row[1], row[2])
-    return out
+    def _ranked(self, terms: list[str], want: int) -> tuple[list[tuple[int, float]], int]:
+        """The best `want` twins (several parts of one twin count once) and the total."""
+        expr = match_expression(terms)
+        where, args = self._doc_filters()
+        total = self.c.execute(
+            f"SELECT count(DISTINCT rowid >> {_SHIFT}) FROM search_twins"
+            f" WHERE search_twins MATCH ?{where}",
+            [expr, *args],
+        ).fetchone()[0]
+        # Most twins match with one part, so a little more than `want` parts nearly always
+        # holds `want` twins; when it does not, group by twin (exact, a little slower).
+        fetch = want + want // 4 + 8
+        rows = self.c.execute(
+            f"SELECT rowid >> {_SHIFT}, -rank FROM search_twins WHERE search_twins MATCH ?"
+            f"{where} ORDER BY rank LIMIT ?",
+            [expr, *args, fetch],
+        ).fetchall()
+        best: dict[int, float] = {}
+        for twin_id, score in rows:
+            best.setdefault(twin_id, score)
+        if len(best) < min(want, total) and len(rows) == fetch:
+            rows = self.c.execute(
+                f"SELECT rowid >> {_SHIFT} AS t, max(-rank) AS s FROM search_twins"
+                f" WHERE search_twins MATCH ?{where} GROUP BY t ORDER BY s DESC LIMIT ?",
+                [expr, *args, want],
+            ).fetchall()
+            best = dict(rows)
+        return list(best.items())[:want], total
 
+    def _all(self) -> tuple[list[tuple[int, float]], int]:
+        where, args = self._keyword_filter("t.id")
+        if not self.vis.is_admin:
+            visible, vis_args = part_visible(self.vis, "p.twin_id", "p.privacy")
+            where = (
+                " AND EXISTS (SELECT 1 FROM search_parts p WHERE p.twin_id = t.id"
+                f" AND {visible}){where}"
+            )
+            args = [*vis_args, *args]
+        rows = self.c.execute(
+            f"SELECT t.id FROM twins t WHERE 1{where} ORDER BY t.name COLLATE NOCASE, t.slug", args
+        ).fetchall()
+        return [(r[0], 0.0) for r in rows], len(rows)
 
-def _snippets(c: sqlite3.Connection, terms: list[str], row_ids: list[int]) -> dict[int, str]:
-    if not terms or not row_ids:
-        return {}
-    out: dict[int, str] = {}
-    expr = " OR ".join(f"({t})" for t in terms)
-    for chunk in _chunks(row_ids):
-        marks = ", ".join("?" * len(chunk))
-        for row in c.execute(
-            f"SELECT rowid, {_SNIPPET} FROM search_fts WHERE search_fts MATCH ?"
-            f" AND rowid IN ({marks})",
-            [expr, *chunk],
+    def _names(self, page: list[tuple[int, float]]) -> dict[int, tuple[str, str]]:
+        ids = [t for t, _ in page]
+        if not ids:
+            return {}
+        marks = ", ".join("?" * len(ids))
+        rows = self.c.execute(f"SELECT id, slug, name FROM twins WHERE id IN ({marks})", ids)
+        return {r[0]: (r[1], r[2]) for r in rows}
+
+    def _matches(
+        self, page: list[tuple[int, float]], terms: list[str]
+    ) -> dict[int, list[dict[str, Any]]]:
+        """Which rows of the page's twins (the twin itself, or features) match any word, with
+        a snippet each."""
+        ids = [t for t, _ in page]
+        if not ids:
+            return {}
+        visible, args = part_visible(self.vis, "s.twin_id", "s.privacy")
+        marks = ", ".join("?" * len(ids))
+        candidates = self.c.execute(
+            f"SELECT s.id, s.twin_id, s.feature, s.privacy FROM search_rows s"
+            f" WHERE s.twin_id IN ({marks}) AND {visible} ORDER BY s.feature IS NOT NULL, s.id",
+            [*ids, *args],
+        ).fetchall()
+        snippets = self._snippets([r[0] for r in candidates], terms)
+        out: dict[int, dict[str | None, dict[str, Any]]] = {}
+        for row_id, twin_id, feature, privacy in candidates:
+            if row_id not in snippets:
+                continue
+            entry = out.setdefault(twin_id, {}).setdefault(
+                feature, {"feature": feature, "privacy": privacy}
+            )
+            entry.setdefault("snippet", snippets[row_id])
+        return {t: list(features.values()) for t, features in out.items()}
+
+    def _snippets(self, row_ids: list[int], terms: list[str]) -> dict[int, str]:
+        """Snippets of the rows that match a word, made here from the stored text: a MATCH
+        restricted to a list of rowids would run the whole query once per rowid."""
+        out = {}
+        highlighter = Highlighter(terms)
+        for start in range(0, len(row_ids), 500):
+            chunk = row_ids[start : start + 500]
+            marks = ", ".join("?" * len(chunk))
+            for row_id, *columns in self.c.execute(
+                f"SELECT rowid, name, description, keywords, extra FROM search_fts"
+                f" WHERE rowid IN ({marks})",
+                chunk,
+            ):
+                snippet = highlighter.snippet(columns[:3], columns[3])
+                if snippet is not None:
+                    out[row_id] = snippet
+        return out
+
+    def _facets(self, twin_ids: list[int], limit: int) -> list[tuple[str, int]]:
+        """Keyword counts (twins per keyword) over the visible parts of `twin_ids`."""
+        if not twin_ids:
+            return []
+        visible, args = part_visible(self.vis, "p.twin_id", "p.privacy")
+        marks = ", ".join("?" * len(twin_ids))
+        docs = [
+            r[0]
+            for r in self.c.execute(
+                f"SELECT p.id FROM search_parts p WHERE p.twin_id IN ({marks}) AND {visible}",
+                [*twin_ids, *args],
+            )
+        ]
+        if not docs:
+            return []
+        per_twin: dict[int, set[str]] = {}
+        spelling: dict[str, str] = {}
+        marks = ", ".join("?" * len(docs))
+        for doc_id, keywords in self.c.execute(
+            f"SELECT rowid, keywords FROM search_twins WHERE rowid IN ({marks})", docs
         ):
-            out[row[0]] = _safe_snippet(row[1])
-    return out
+            seen = per_twin.setdefault(doc_id >> _SHIFT, set())
+            for keyword in keywords.split(_KEYWORD_SEP):
+                if keyword:
+                    seen.add(keyword.lower())
+                    spelling.setdefault(keyword.lower(), keyword)
+        counts = Counter(k for keywords in per_twin.values() for k in keywords)
+        ranked = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))[:limit]
+        return [(spelling[k], n) for k, n in ranked]
 
 
-def _facets(
-    c: sqlite3.Connection, vis: Visibility, twin_ids: list[int], limit: int
-) -> list[tuple[str, int]]:
-    if not twin_ids:
-        return []
-    visible, args = part_visible(vis, "s.twin_id", "s.privacy")
-    counts: dict[str, int] = defaultdict(int)
-    spelled: dict[str, str] = {}
-    for chunk in _chunks(twin_ids):
-        marks = ", ".join("?" * len(chunk))
-        for kw, n in c.execute(
-            "SELECT k.keyword, count(DISTINCT s.twin_id) FROM search_keywords k"
-            f" JOIN search_rows s ON s.id = k.row_id WHERE s.twin_id IN ({marks}) AND {visible}"
-            " GROUP BY k.keyword",
-            [*chunk, *args],
-        ):
-            counts[kw.lower()] += n
-            spelled.setdefault(kw.lower(), kw)
-    ranked = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))[:limit]
-    return [(spelled[k], n) for k, n in ranked]
+def _fold(text: str) -> str:
+    """Lower case without diacritics, as the unicode61 tokenizer compares words."""
+    decomposed = unicodedata.normalize("NFKD", text.lower())
+    return "".join(ch for ch in decomposed if not unicodedata.combining(ch))
 
 
-def _chunks(items: list[int], size: int = 900) -> list[list[int]]:
-    return [items[i : i + size] for i in range(0, len(items), size)] if items else []
+def _pattern(terms: list[str], prefix: bool) -> re.Pattern[str]:
+    words = "|".join(re.escape(_fold(t)) for t in terms)
+    tail = r"\w*" if prefix else r"\b"
+    return re.compile(rf"\b(?:{words}){tail}", re.IGNORECASE)
+
+
+class Highlighter:
+    """Finds the query's words in stored text the way match_expression does, and cuts a
+    snippet: about ten words around the first match, matches in <mark>, the rest escaped."""
+
+    def __init__(self, terms: list[str]) -> None:
+        long_terms = [t for t in terms if len(t) > 1]
+        self.prefix = _pattern(long_terms, True) if long_terms else None
+        self.whole = _pattern(terms, False)
+
+    def snippet(self, prefixed: list[str], whole: str) -> str | None:
+        """`prefixed` texts match a word as a prefix, `whole` only as the whole word. None
+        when nothing matches."""
+        for text, patterns in [
+            *((t, (self.prefix, self.whole)) for t in prefixed),
+            (whole, (self.whole,)),
+        ]:
+            if not text:
+                continue
+            # Diacritics: match a folded copy when positions carry over to the original.
+            haystack = text
+            if not text.isascii():
+                folded = _fold(text)
+                haystack = folded if len(folded) == len(text) else text
+            for pattern in patterns:
+                found = list(pattern.finditer(haystack)) if pattern is not None else []
+                if found:
+                    return _cut(text, [(m.start(), m.end()) for m in found])
+        return None
+
+
+def _cut(text: str, spans: list[tuple[int, int]]) -> str:
+    """The text around the first span, about ten words, spans marked, the rest escaped."""
+    words = list(_TOKEN.finditer(text))
+    first_word = next(i for i, w in enumerate(words) if w.end() > spans[0][0])
+    lo = max(0, first_word - 3)
+    hi = min(len(words), lo + _SNIPPET_TOKENS)
+    start, end = words[lo].start(), words[hi - 1].end()
+    out, pos = [], start
+    for a, b in spans:
+        if a < start or b > end:
+            continue
+        out += [html.escape(text[pos:a]), "<mark>", html.escape(text[a:b]), "</mark>"]
+        pos = b
+    out.append(html.escape(text[pos:end]))
+    return ("…" if start > 0 else "") + "".join(out) + ("…" if end < len(text) else "")

@@ -11,7 +11,7 @@ import orjson
 from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Edge, TwinRecord, TwinWrite, Visibility
 from twinlink.store.sqlite.db import Database
-from twinlink.store.sqlite.search import write_search_rows
+from twinlink.store.sqlite.search import delete_search_rows, write_search_rows
 from twinlink.store.sqlite.visibility import part_visible
 
 _TWIN_COLUMNS = (
@@ -156,11 +156,7 @@ class TwinTables:
     async def delete_twins(self, twins: list[TwinRecord]) -> None:
         def _delete(c: sqlite3.Connection) -> None:
             for t in twins:
-                c.execute(
-                    "DELETE FROM search_fts WHERE rowid IN"
-                    " (SELECT id FROM search_rows WHERE twin_id = ?)",
-                    (t.id,),
-                )
+                delete_search_rows(c, t.id)
                 # Relations other twins declare stay: they name this id, which may come back.
                 c.execute("DELETE FROM relations WHERE declared_by = ?", (t.dt_id,))
                 c.execute("DELETE FROM twins WHERE id = ?", (t.id,))
