@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import socket
 import sys
 from collections.abc import Callable
@@ -70,5 +69,5 @@ def serve(
         server_header=False,
         proxy_headers=False,
     )
-    server = uvicorn.Server(config)
-    asyncio.run(server.serve(sockets=[sock]))
+    # Server.run picks the event loop (uvloop when installed, as with uvicorn[standard]).
+    uvicorn.Server(config).run(sockets=[sock])

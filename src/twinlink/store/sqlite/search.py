@@ -19,7 +19,7 @@ from typing import Any
 from twinlink.domain.merge import level_order
 from twinlink.store.records import SearchResult, SearchRow, Visibility
 from twinlink.store.sqlite.db import Database
-from twinlink.store.sqlite.visibility import part_visible
+from twinlink.store.sqlite.visibility import part_visible, visible_private_parts
 
 FACET_SAMPLE = 100  # facets count the best this many hits
 # Keywords are kept apart by a line break, which the tokenizer reads as a separator, so the
@@ -163,23 +163,17 @@ class _Search:
         sql, args = self._keyword_filter(f"(rowid >> {_SHIFT})")
         if self.vis.is_admin:
             return sql, args
-        visible, vis_args = part_visible(self.vis, "p.twin_id", "p.privacy")
+        private, private_args = visible_private_parts(self.vis)
         return (
             # Uncorrelated, so SQLite builds the set of the reader's non-public parts once.
-            f" AND (rowid & {SLOTS - 1} = 0 OR rowid IN (SELECT p.id FROM search_parts p"
-            f" WHERE p.privacy <> 'public' AND {visible})){sql}",
-            [*vis_args, *args],
+            f" AND (rowid & {SLOTS - 1} = 0 OR rowid IN ({private})){sql}",
+            [*private_args, *args],
         )
 
     def _ranked(self, terms: list[str], want: int) -> tuple[list[tuple[int, float]], int]:
         """The best `want` twins (several parts of one twin count once) and the total."""
         expr = match_expression(terms)
         where, args = self._doc_filters()
-        total = self.c.execute(
-            f"SELECT count(DISTINCT rowid >> {_SHIFT}) FROM search_twins"
-            f" WHERE search_twins MATCH ?{where}",
-            [expr, *args],
-        ).fetchone()[0]
         # Most twins match with one part, so a little more than `want` parts nearly always
         # holds `want` twins; when it does not, group by twin (exact, a little slower).
         fetch = want + want // 4 + 8
@@ -191,7 +185,14 @@ class _Search:
         best: dict[int, float] = {}
         for twin_id, score in rows:
             best.setdefault(twin_id, score)
-        if len(best) < min(want, total) and len(rows) == fetch:
+        if len(rows) < fetch:
+            return list(best.items())[:want], len(best)  # every match is in hand
+        total = self.c.execute(
+            f"SELECT count(DISTINCT rowid >> {_SHIFT}) FROM search_twins"
+            f" WHERE search_twins MATCH ?{where}",
+            [expr, *args],
+        ).fetchone()[0]
+        if len(best) < min(want, total):
             rows = self.c.execute(
                 f"SELECT rowid >> {_SHIFT} AS t, max(-rank) AS s FROM search_twins"
                 f" WHERE search_twins MATCH ?{where} GROUP BY t ORDER BY s DESC LIMIT ?",

@@ -25,3 +25,28 @@ def part_visible(vis: Visibility, twin_col: str, privacy_col: str) -> tuple[str,
         )
         args.append(vis.user_id)
     return "(" + " OR ".join(clauses) + ")", args
+
+
+def visible_private_parts(vis: Visibility) -> tuple[str, list[object]]:
+    """A SELECT of the search_parts ids that are not public and that the reader may see: the
+    same rules as part_visible, written to start from the reader's groups and roles (a few
+    index lookups) instead of testing every part."""
+    selects: list[str] = []
+    args: list[object] = []
+    if vis.groups:
+        marks = ", ".join("?" * len(vis.groups))
+        selects.append(
+            f"SELECT p.id FROM search_parts p WHERE p.privacy IN ({marks})"
+            " AND p.privacy <> 'public'"
+        )
+        args.extend(vis.groups)
+    if vis.user_id is not None:
+        selects.append(
+            "SELECT p.id FROM twin_roles r JOIN search_parts p ON p.twin_id = r.twin_id"
+            " WHERE r.user_id = ? AND p.privacy <> 'public'"
+            " AND (p.privacy <> 'private' OR r.role IN ('owner', 'editor'))"
+        )
+        args.append(vis.user_id)
+    if not selects:
+        return "SELECT NULL WHERE 0", []
+    return " UNION ALL ".join(selects), args

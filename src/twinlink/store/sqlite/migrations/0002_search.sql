@@ -17,6 +17,8 @@ CREATE TABLE search_parts (
     privacy TEXT NOT NULL
 );
 CREATE INDEX search_parts_twin ON search_parts(twin_id);
+-- A reader's non-public parts are found from here without scanning every part.
+CREATE INDEX search_parts_privacy ON search_parts(privacy, twin_id);
 
 -- search_rows/search_fts say which feature matched and give snippets: one row per
 -- (twin, privacy part, feature), the twin's own fields forming a row with no feature.
