@@ -140,3 +140,10 @@ def test_put_with_yaml_of_two_twins_is_refused(server: Server) -> None:
     with server.admin as admin:
         r = admin.put(f"/api/v1/twins/{slug}", content=body, headers=YAML_HEADERS)
     assert_problem(r, 422)
+
+
+def test_a_group_cannot_be_named_like_a_fixed_level(server: Server) -> None:
+    with server.admin as admin:
+        for name in ("private", "Public"):
+            r = admin.post("/api/v1/users", json={"username": unique("g"), "groups": [name]})
+            assert "privacy level" in str(assert_problem(r, 422)["errors"])

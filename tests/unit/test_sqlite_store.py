@@ -129,7 +129,7 @@ async def test_private_rows_are_filtered_and_facets_follow(store: SqliteStore) -
     )
     assert admin.total == 1 and admin.facets == [("zebra", 1)]
     grouped = Visibility(user_id=99, groups=("private",))  # a group name never grants private
-    assert (await store.search(grouped, ["zebra"], keyword=None, limit=5, offset=0)).total == 1
+    assert (await store.search(grouped, ["zebra"], keyword=None, limit=5, offset=0)).total == 0
 
 
 async def test_resaving_replaces_search_rows(store: SqliteStore) -> None:

@@ -6,7 +6,7 @@ import time
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Query
-from pydantic import BaseModel, Field
+from pydantic import AfterValidator, BaseModel, Field
 
 from twinlink.api.deps import Admin, Auth, Caller
 from twinlink.auth.rights import Principal
@@ -18,6 +18,16 @@ from twinlink.store.records import ApiToken, User
 router = APIRouter(prefix="/api/v1", tags=["auth"])
 
 _GROUP = r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$"
+
+
+def _not_a_level(name: str) -> str:
+    # A group is named like a privacy level; "public" and "private" are levels, never groups.
+    if name.lower() in ("public", "private"):
+        raise ValueError(f"{name!r} is a privacy level, not a group name")
+    return name
+
+
+GroupName = Annotated[str, Field(pattern=_GROUP), AfterValidator(_not_a_level)]
 
 
 class Login(BaseModel):
@@ -36,13 +46,13 @@ class NewUser(BaseModel):
     username: str = Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.@-]*$")
     password: str | None = Field(None, min_length=8, max_length=1024)
     is_admin: bool = False
-    groups: list[Annotated[str, Field(pattern=_GROUP)]] = Field(default_factory=list)
+    groups: list[GroupName] = Field(default_factory=list)
 
 
 class UserChange(BaseModel):
     password: str | None = Field(None, min_length=8, max_length=1024)
     is_admin: bool | None = None
-    groups: list[Annotated[str, Field(pattern=_GROUP)]] | None = None
+    groups: list[GroupName] | None = None
     disabled: bool | None = None
 
 

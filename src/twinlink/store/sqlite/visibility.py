@@ -16,7 +16,11 @@ def part_visible(vis: Visibility, twin_col: str, privacy_col: str) -> tuple[str,
     clauses = [f"{privacy_col} = 'public'"]
     args: list[object] = []
     if vis.groups:
-        clauses.append(f"{privacy_col} IN ({', '.join('?' * len(vis.groups))})")
+        # A user group named like a fixed level grants nothing: "private" is never a group.
+        clauses.append(
+            f"({privacy_col} IN ({', '.join('?' * len(vis.groups))})"
+            f" AND {privacy_col} NOT IN ('public', 'private'))"
+        )
         args.extend(vis.groups)
     if vis.user_id is not None:
         clauses.append(
@@ -37,7 +41,7 @@ def visible_private_parts(vis: Visibility) -> tuple[str, list[object]]:
         marks = ", ".join("?" * len(vis.groups))
         selects.append(
             f"SELECT p.id FROM search_parts p WHERE p.privacy IN ({marks})"
-            " AND p.privacy <> 'public'"
+            " AND p.privacy NOT IN ('public', 'private')"
         )
         args.extend(vis.groups)
     if vis.user_id is not None:
