@@ -288,12 +288,12 @@ class _Search:
         for doc_id, keywords in self.c.execute(
             f"SELECT rowid, keywords FROM search_twins WHERE rowid IN ({marks})", docs
         ):
-            seen = per_twin.setdefault(doc_id >> _SHIFT, set())
-            for keyword in keywords.split(_KEYWORD_SEP):
-                if keyword:
-                    seen.add(keyword.lower())
-                    spelling.setdefault(keyword.lower(), keyword)
-        counts = Counter(k for keywords in per_twin.values() for k in keywords)
+            folded = keywords.lower().split(_KEYWORD_SEP)
+            per_twin.setdefault(doc_id >> _SHIFT, set()).update(folded)
+            for low, keyword in zip(folded, keywords.split(_KEYWORD_SEP), strict=False):
+                if low not in spelling:
+                    spelling[low] = keyword
+        counts = Counter(k for keywords in per_twin.values() for k in keywords if k)
         ranked = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))[:limit]
         return [(spelling[k], n) for k, n in ranked]
 
