@@ -15,6 +15,7 @@ from tests.conftest import EXAMPLES, Server
 
 PROBLEM = "application/problem+json"
 YAML_HEADERS = {"Content-Type": "application/yaml"}
+JSON_HEADERS = {"Content-Type": "application/json"}
 ILMATAR = EXAMPLES / "ilmatar"
 CRANE_SLUG = "ilmatar-k16052"  # derived from the id http://d-t.fi/ilmatar-K16052
 HALL_SLUG = "aalto-industrial-hall"
@@ -88,6 +89,21 @@ def twin_doc(
     return yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)
 
 
+def get_doc(c: httpx.Client, slug: str) -> dict[str, Any]:
+    r = c.get(f"/api/v1/twins/{slug}")
+    assert r.status_code == 200, r.text
+    return r.json()["document"]  # type: ignore[no-any-return]
+
+
+def slug_of(r: httpx.Response) -> str:
+    return str(r.json()["results"][0]["slug"])
+
+
+def _feature(doc: dict[str, Any], name: str) -> dict[str, Any]:
+    [found] = [f for f in doc.get("features", []) if f["name"] == name]
+    return dict(found)
+
+
 def apply(client: httpx.Client, *docs: str, expect: int | None = 200) -> httpx.Response:
     """POST /api/v1/apply of one or several YAML documents as one stream."""
     r = client.post("/api/v1/apply", content="---\n".join(docs).encode(), headers=YAML_HEADERS)
@@ -113,6 +129,12 @@ def load_yaml(path: Path) -> dict[str, Any]:
     data = yaml.safe_load(path.read_text("utf-8"))
     assert isinstance(data, dict)
     return data
+
+
+def _not_found_shape(r: httpx.Response, slug: str) -> dict[str, Any]:
+    body = assert_problem(r, 404)
+    body["detail"] = body["detail"].replace(slug, "<slug>")
+    return body
 
 
 def twin_count(server: Server) -> int:

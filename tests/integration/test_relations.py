@@ -2,21 +2,19 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import Any
 
 import httpx
 import pytest
 
 from tests.conftest import Server
+from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import (
     apply,
     assert_problem,
-    last_error,
     make_user,
     twin_count,
     twin_doc,
-    unhandled_errors,
     unique,
 )
 
@@ -336,10 +334,3 @@ def test_deleting_a_twin_keeps_the_relations_other_documents_declare(server: Ser
         assert again["outcome"] == "unchanged"
         apply(admin, t.doc("crane"))
         assert relations(admin, t.slug("crane")) == {("parent", t.id("hall"))}
-
-
-@pytest.fixture(autouse=True)
-def _no_server_errors(server: Server) -> Iterator[None]:
-    before = unhandled_errors(server)
-    yield
-    assert unhandled_errors(server) == before, f"the server logged: {last_error(server)}"

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import json
 from collections import defaultdict
-from collections.abc import Iterator
 from typing import Any
 
 import httpx
 import pytest
 
 from tests.conftest import EXAMPLES, Server
+from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import (
     CRANE_SLUG,
     HALL_SLUG,
@@ -18,11 +18,9 @@ from tests.integration._util import (
     apply,
     apply_examples,
     assert_problem,
-    last_error,
     load_yaml,
     make_user,
     twin_doc,
-    unhandled_errors,
     unique,
 )
 
@@ -314,13 +312,6 @@ def test_query_syntax_characters_never_break_search(server: Server, examples: No
         r = admin.get("/api/v1/search", params={"q": q})
     assert r.status_code == 200, r.text
     assert isinstance(r.json()["hits"], list)
-
-
-@pytest.fixture(autouse=True)
-def _no_server_errors(server: Server) -> Iterator[None]:
-    before = unhandled_errors(server)
-    yield
-    assert unhandled_errors(server) == before, f"the server logged: {last_error(server)}"
 
 
 def test_the_id_is_searchable_and_one_letter_is_no_wildcard(server: Server) -> None:

@@ -95,9 +95,7 @@ async def test_search_needs_every_term_somewhere_in_the_twin(store: SqliteStore)
         ),
     )
     await save(store, write("hall", [row("public", None, "Hall", "a crane is here")]))
-    result = await store.search(
-        Visibility(), ["crane", "cad"], keyword=None, limit=5, offset=0
-    )
+    result = await store.search(Visibility(), ["crane", "cad"], keyword=None, limit=5, offset=0)
     assert [h["slug"] for h in result.hits] == ["crane"]
     assert {m["feature"] for m in result.hits[0]["matches"]} == {None, "CAD store"}
 
@@ -121,9 +119,7 @@ async def test_private_rows_are_filtered_and_facets_follow(store: SqliteStore) -
             parts={"public": {"name": "Crane"}, "private": {}},
         ),
     )
-    assert (
-        await store.search(Visibility(), ["zebra"], keyword=None, limit=5, offset=0)
-    ).total == 0
+    assert (await store.search(Visibility(), ["zebra"], keyword=None, limit=5, offset=0)).total == 0
     admin = await store.search(
         Visibility(is_admin=True), ["zebra"], keyword=None, limit=5, offset=0
     )
@@ -137,12 +133,8 @@ async def test_resaving_replaces_search_rows(store: SqliteStore) -> None:
     update = write("t", [row("public", None, "New name")])
     update.twin_id = record.id
     await save(store, update)
-    assert (
-        await store.search(Visibility(), ["old"], keyword=None, limit=5, offset=0)
-    ).total == 0
-    assert (
-        await store.search(Visibility(), ["new"], keyword=None, limit=5, offset=0)
-    ).total == 1
+    assert (await store.search(Visibility(), ["old"], keyword=None, limit=5, offset=0)).total == 0
+    assert (await store.search(Visibility(), ["new"], keyword=None, limit=5, offset=0)).total == 1
 
 
 async def test_descendants_walk_and_exclusion(store: SqliteStore) -> None:
