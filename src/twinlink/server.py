@@ -64,6 +64,7 @@ def serve(
     config = uvicorn.Config(
         app,
         log_level=settings.log_level,
+        log_config=None,  # setup_logging has configured uvicorn's loggers
         access_log=settings.access_log,
         lifespan="on",
         server_header=False,
