@@ -196,3 +196,18 @@ async def test_snippets_escape_document_html(store: SqliteStore) -> None:
     snippet = result.hits[0]["matches"][0]["snippet"]
     assert "<b" not in snippet
     assert "onmouseover=x&gt;<mark>crane</mark>&lt;/b&gt; here" in snippet
+
+
+async def test_broad_queries_rank_name_matches_and_count_everything(
+    store: SqliteStore, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from twinlink.store.sqlite import search
+
+    monkeypatch.setattr(search, "RANK_LIMIT", 2)  # as if the word matched thousands of parts
+    await save(store, write("a", [row("public", None, "Alpha", "pump station")]))
+    await save(store, write("b", [row("public", None, "Beta", "pump and pump")]))
+    await save(store, write("c", [row("public", "Pump", "Pump", "moves water")]))
+    result = await store.search(Visibility(), ["pump"], keyword=None, limit=5, offset=0)
+    assert result.total == 3
+    slugs = [h["slug"] for h in result.hits]
+    assert slugs[0] == "c" and sorted(slugs[1:]) == ["a", "b"]  # the name match first

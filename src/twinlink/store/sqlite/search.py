@@ -22,6 +22,7 @@ from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.visibility import part_visible, visible_private_parts
 
 FACET_SAMPLE = 100  # facets count the best this many hits
+RANK_LIMIT = 2000  # matching parts ranked in full by bm25; above, only name matches are
 # Keywords are kept apart by a line break, which the tokenizer reads as a separator, so the
 # facets can be read back from the index as whole keywords ("emergency stop").
 _KEYWORD_SEP = "\n"
@@ -105,6 +106,11 @@ def match_expression(words: list[str]) -> str:
     )
 
 
+def names_expression(words: list[str]) -> str:
+    """Every word matches the twin's name or a feature's name."""
+    return " AND ".join(f"({{name features}} : {fts_phrase(w)})" for w in words)
+
+
 class SearchTables:
     db: Database
 
@@ -171,8 +177,36 @@ class _Search:
         )
 
     def _ranked(self, terms: list[str], want: int) -> tuple[list[tuple[int, float]], int]:
-        """The best `want` twins (several parts of one twin count once) and the total."""
-        expr = match_expression(terms)
+        """The best `want` twins and the total.
+
+        bm25 in FTS5 scores every document it ranks, so a broad word ("d", "data") costs as
+        much as it matches. Up to RANK_LIMIT matching parts are all ranked; beyond that, only
+        the parts whose names (the twin's or a feature's) match every word are ranked, and
+        the other matches follow them unranked: a query that broad is narrowed by the next
+        word typed, and its answer stays fast.
+        """
+        full = match_expression(terms)
+        where, args = self._doc_filters()
+        parts, total = self.c.execute(
+            f"SELECT count(*), count(DISTINCT rowid >> {_SHIFT}) FROM search_twins"
+            f" WHERE search_twins MATCH ?{where}",
+            [full, *args],
+        ).fetchone()
+        if parts <= RANK_LIMIT:
+            return self._top(full, want), total
+        strong = names_expression(terms)
+        best = dict(self._top(strong, want))
+        if len(best) < want:
+            for twin_id, score in self.c.execute(
+                f"SELECT rowid >> {_SHIFT}, 0.0 FROM search_twins WHERE search_twins MATCH ?"
+                f"{where} LIMIT ?",
+                [f"({full}) NOT ({strong})", *args, 2 * want],
+            ):
+                best.setdefault(twin_id, score)
+        return list(best.items())[:want], total
+
+    def _top(self, expr: str, want: int) -> list[tuple[int, float]]:
+        """The best `want` twins for one FTS expression, ranked by bm25."""
         where, args = self._doc_filters()
         # Most twins match with one part, so a little more than `want` parts nearly always
         # holds `want` twins; when it does not, group by twin (exact, a little slower).
@@ -185,21 +219,14 @@ class _Search:
         best: dict[int, float] = {}
         for twin_id, score in rows:
             best.setdefault(twin_id, score)
-        if len(rows) < fetch:
-            return list(best.items())[:want], len(best)  # every match is in hand
-        total = self.c.execute(
-            f"SELECT count(DISTINCT rowid >> {_SHIFT}) FROM search_twins"
-            f" WHERE search_twins MATCH ?{where}",
-            [expr, *args],
-        ).fetchone()[0]
-        if len(best) < min(want, total):
+        if len(rows) == fetch and len(best) < want:
             rows = self.c.execute(
                 f"SELECT rowid >> {_SHIFT} AS t, max(-rank) AS s FROM search_twins"
                 f" WHERE search_twins MATCH ?{where} GROUP BY t ORDER BY s DESC LIMIT ?",
                 [expr, *args, want],
             ).fetchall()
             best = dict(rows)
-        return list(best.items())[:want], total
+        return list(best.items())[:want]
 
     def _all(self) -> tuple[list[tuple[int, float]], int]:
         where, args = self._keyword_filter("t.id")
@@ -316,28 +343,43 @@ class Highlighter:
 
     def __init__(self, terms: list[str]) -> None:
         long_terms = [t for t in terms if len(t) > 1]
-        self.prefix = _pattern(long_terms, True) if long_terms else None
+        short_terms = [t for t in terms if len(t) == 1]
+        # Where words match as prefixes, one pattern does: long words as prefixes, one-letter
+        # words whole. In the other text every word must match whole.
+        parts = []
+        if long_terms:
+            parts.append(rf"(?:{'|'.join(map(_escaped, long_terms))})\w*")
+        if short_terms:
+            parts.append(rf"(?:{'|'.join(map(_escaped, short_terms))})\b")
+        self.prefixed = re.compile(rf"\b(?:{'|'.join(parts)})", re.IGNORECASE)
         self.whole = _pattern(terms, False)
 
     def snippet(self, prefixed: list[str], whole: str) -> str | None:
         """`prefixed` texts match a word as a prefix, `whole` only as the whole word. None
         when nothing matches."""
-        for text, patterns in [
-            *((t, (self.prefix, self.whole)) for t in prefixed),
-            (whole, (self.whole,)),
-        ]:
-            if not text:
-                continue
-            # Diacritics: match a folded copy when positions carry over to the original.
-            haystack = text
-            if not text.isascii():
-                folded = _fold(text)
-                haystack = folded if len(folded) == len(text) else text
-            for pattern in patterns:
-                found = list(pattern.finditer(haystack)) if pattern is not None else []
-                if found:
-                    return _cut(text, [(m.start(), m.end()) for m in found])
-        return None
+        for text in prefixed:
+            found = _spans(self.prefixed, text)
+            if found:
+                return _cut(text, found)
+        found = _spans(self.whole, whole)
+        return _cut(whole, found) if found else None
+
+
+def _escaped(term: str) -> str:
+    return re.escape(_fold(term))
+
+
+def _spans(pattern: re.Pattern[str], text: str) -> list[tuple[int, int]]:
+    if not text:
+        return []
+    # Diacritics: match a folded copy when positions carry over to the original.
+    haystack = text
+    if not text.isascii():
+        folded = _fold(text)
+        haystack = folded if len(folded) == len(text) else text
+    if pattern.search(haystack) is None:
+        return []
+    return [(m.start(), m.end()) for m in pattern.finditer(haystack)]
 
 
 def _cut(text: str, spans: list[tuple[int, int]]) -> str:
