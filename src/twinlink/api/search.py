@@ -2,16 +2,21 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import APIRouter, Query
 
 from twinlink.api.deps import Caller, Search
+from twinlink.api.responses import JSONAnswer
 
 router = APIRouter(prefix="/api/v1", tags=["search"])
 
 
-@router.get("/search", summary="Find twins and the features that hold what you need")
+@router.get(
+    "/search",
+    summary="Find twins and the features that hold what you need",
+    response_class=JSONAnswer,
+)
 async def search(
     caller: Caller,
     service: Search,
@@ -19,5 +24,5 @@ async def search(
     keyword: Annotated[str | None, Query(max_length=128, description="facet filter")] = None,
     limit: Annotated[int, Query(ge=1, le=200)] = 20,
     offset: Annotated[int, Query(ge=0, le=10_000)] = 0,
-) -> dict[str, Any]:
-    return await service.search(caller, q, keyword=keyword, limit=limit, offset=offset)
+) -> JSONAnswer:
+    return JSONAnswer(await service.search(caller, q, keyword=keyword, limit=limit, offset=offset))

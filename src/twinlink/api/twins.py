@@ -9,6 +9,7 @@ from pydantic import BaseModel, Field
 
 from twinlink.api._body import DOCUMENT_BODY, read_documents
 from twinlink.api.deps import Caller, Registry
+from twinlink.api.responses import JSONAnswer
 from twinlink.auth.rights import has_role, may_see_level
 from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
 from twinlink.registry.build import human_time
@@ -86,16 +87,22 @@ async def apply(request: Request, caller: Caller, reg: Registry) -> dict[str, An
     return {"results": [_applied(reg, a) for a in results]}
 
 
-@router.get("/twins/{slug}", summary="A twin and its document as the caller may see it")
-async def get_twin(slug: str, caller: Caller, reg: Registry) -> dict[str, Any]:
+@router.get(
+    "/twins/{slug}",
+    summary="A twin and its document as the caller may see it",
+    response_class=JSONAnswer,
+)
+async def get_twin(slug: str, caller: Caller, reg: Registry) -> JSONAnswer:
     twin, document = await reg.document(caller, slug)
     role = await reg.role_of(caller, twin)
     levels = [lv for lv in twin.levels if may_see_level(caller, role, lv)]
-    return {
-        **summary(reg, twin, levels),
-        "role": "admin" if caller.is_admin else role,
-        "document": document,
-    }
+    return JSONAnswer(
+        {
+            **summary(reg, twin, levels),
+            "role": "admin" if caller.is_admin else role,
+            "document": document,
+        }
+    )
 
 
 @router.put("/twins/{slug}", summary="Update a twin's document parts", openapi_extra=DOCUMENT_BODY)
