@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -37,7 +38,7 @@ class Applier:
     """Plans every twin of a request (rights, conflicts, slugs) before anything is written,
     then writes them all in one transaction; the store refuses composition cycles in it."""
 
-    def __init__(self, store: MetadataStore, canonical_url: Any) -> None:
+    def __init__(self, store: MetadataStore, canonical_url: Callable[[str], str]) -> None:
         self.store = store
         self.canonical_url = canonical_url
 
