@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from fastapi import FastAPI
 
 from twinlink import __version__
-from twinlink.api import apidocs, auth, pages, problems, search, system, twins
+from twinlink.api import apidocs, auth, devices, pages, problems, search, system, twins
+from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.config import Settings
 from twinlink.metrics import Metrics, MetricsMiddleware
@@ -28,15 +29,18 @@ class Services:
     auth: AuthService
     registry: RegistryService
     search: SearchService
+    devices: DeviceService
 
 
 def build_services(settings: Settings) -> Services:
     store: MetadataStore = SqliteStore(settings.data_dir)
+    registry = RegistryService(store, settings.base_url)
     return Services(
         store=store,
         auth=AuthService(store, settings.session_ttl_s),
-        registry=RegistryService(store, settings.base_url),
+        registry=registry,
         search=SearchService(store),
+        devices=DeviceService(store, registry),
     )
 
 
@@ -83,7 +87,7 @@ def create_app(
     app.state.services = services
     app.state.metrics = metrics
     problems.install(app)
-    for module in (system, auth, twins, search, pages):
+    for module in (system, auth, twins, devices, search, pages):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

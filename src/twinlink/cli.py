@@ -176,8 +176,9 @@ def search(
     click.echo(f"({answer['total']} twin{'s' if answer['total'] != 1 else ''})")
 
 
-from twinlink.cli_admin import tokens, twins, users  # noqa: E402
+from twinlink.cli_admin import devices, tokens, twins, users  # noqa: E402
 
+main.add_command(devices)
 main.add_command(twins)
 main.add_command(users)
 main.add_command(tokens)

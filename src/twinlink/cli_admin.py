@@ -261,3 +261,56 @@ def tokens_revoke(ctx: click.Context, token_id: int) -> None:
     """Revoke an API token by its id."""
     _client(ctx).json("DELETE", f"/api/v1/tokens/{token_id}")
     click.echo(f"revoked token {token_id}")
+
+
+# -- devices -------------------------------------------------------------------------------
+
+
+@click.group()
+def devices() -> None:
+    """Manage the devices of a twin and their tokens."""
+
+
+@devices.command("ls")
+@click.argument("slug")
+@click.pass_context
+def devices_ls(ctx: click.Context, slug: str) -> None:
+    """List a twin's devices (never their tokens)."""
+    for d in _client(ctx).json("GET", f"/api/v1/twins/{slug}/devices")["devices"]:
+        seen = d["last_seen"] or "never seen"
+        click.echo(f"{d['name']:<24} {d['token_prefix']}…  {seen}  {d['description']}".rstrip())
+
+
+@devices.command("add")
+@click.argument("slug")
+@click.argument("name")
+@click.option("-d", "--description", default="", help="What the device is.")
+@click.pass_context
+def devices_add(ctx: click.Context, slug: str, name: str, description: str) -> None:
+    """Add device NAME to a twin; its token is printed once."""
+    answer = _client(ctx).json(
+        "POST", f"/api/v1/twins/{slug}/devices", json={"name": name, "description": description}
+    )
+    click.echo(answer["token"])
+    click.echo(f"(device {name} of {slug}: token shown once, store it now)", err=True)
+
+
+@devices.command("token")
+@click.argument("slug")
+@click.argument("name")
+@click.pass_context
+def devices_token(ctx: click.Context, slug: str, name: str) -> None:
+    """Give device NAME a new token (printed once); the old one stops working."""
+    answer = _client(ctx).json("POST", f"/api/v1/twins/{slug}/devices/{name}/token")
+    click.echo(answer["token"])
+    click.echo(f"(new token for {name}: shown once; the old token no longer works)", err=True)
+
+
+@devices.command("rm")
+@click.argument("slug")
+@click.argument("name")
+@click.pass_context
+def devices_rm(ctx: click.Context, slug: str, name: str) -> None:
+    """Remove device NAME and its token."""
+    _client(ctx).json("DELETE", f"/api/v1/twins/{slug}/devices/{name}")
+    click.echo(f"removed device {name} of {slug}")

@@ -97,6 +97,7 @@ def _fill(path: str, world: World, slug: str) -> str:
         "token_id": str(world.user_token_id),
         "username": world.username,
         "level": "public",
+        "device": "some-device",
     }
 
     def sub(m: re.Match[str]) -> str:
@@ -120,6 +121,8 @@ def _body(method: str, path: str, slug: str, server: Server) -> dict[str, Any]:
         "/api/v1/users": {"username": "someone", "password": "long-enough-pw"},
         "/api/v1/users/{username}": {"password": "long-enough-pw"},
         "/api/v1/twins/{slug}/roles/{username}": {"role": "viewer"},
+        "/api/v1/twins/{slug}/devices": {"name": "some-device"},
+        "/api/v1/users/{username}/tokens": {"name": "t"},
     }
     return {"json": bodies.get(path, {})}
 

@@ -35,6 +35,18 @@ class ApiToken:
 
 
 @dataclass(slots=True)
+class Device:
+    id: int
+    twin_id: int
+    twin_slug: str
+    name: str
+    description: str
+    prefix: str
+    created_ns: int
+    last_seen_ns: int | None
+
+
+@dataclass(slots=True)
 class TwinRecord:
     id: int
     slug: str

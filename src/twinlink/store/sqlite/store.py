@@ -5,13 +5,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from twinlink.store.sqlite.db import Database
+from twinlink.store.sqlite.devices import DeviceTables
 from twinlink.store.sqlite.search import SearchTables
 from twinlink.store.sqlite.twins import TwinTables
 from twinlink.store.sqlite.users import UserTables
 
 
-class SqliteStore(UserTables, TwinTables, SearchTables):
-    """Metadata store of users, tokens, twins, relations and the search index."""
+class SqliteStore(UserTables, TwinTables, SearchTables, DeviceTables):
+    """Metadata store of users, tokens, twins, relations, devices and the search index."""
 
     FILE_NAME = "twinlink.sqlite3"
 

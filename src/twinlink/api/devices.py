@@ -1,0 +1,99 @@
+"""/api/v1/twins/{slug}/devices (people manage devices) and /api/v1/device (a device itself)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Depends, Request
+from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
+from pydantic import BaseModel, Field
+
+from twinlink.api.deps import Caller
+from twinlink.auth.devices import DEVICE_NAME, DeviceService
+from twinlink.auth.service import AuthError
+from twinlink.registry.build import human_time
+from twinlink.store.records import Device
+
+router = APIRouter(prefix="/api/v1", tags=["devices"])
+_device_bearer = HTTPBearer(
+    auto_error=False, scheme_name="DeviceToken", description="A device token: `tld_...`"
+)
+
+
+def device_service(request: Request) -> DeviceService:
+    return request.app.state.services.devices  # type: ignore[no-any-return]
+
+
+Devices = Annotated[DeviceService, Depends(device_service)]
+
+
+async def this_device(
+    devices: Devices,
+    credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(_device_bearer)],
+) -> Device:
+    if credentials is None:
+        raise AuthError("a device token is required")
+    return await devices.authenticate(credentials.credentials)
+
+
+ThisDevice = Annotated[Device, Depends(this_device)]
+
+
+class NewDevice(BaseModel):
+    name: str = Field(pattern=DEVICE_NAME.pattern, description="unique within the twin")
+    description: str = Field("", max_length=2000)
+
+
+def device_view(d: Device) -> dict[str, Any]:
+    return {
+        "name": d.name,
+        "twin": d.twin_slug,
+        "description": d.description,
+        "token_prefix": d.prefix,
+        "created": human_time(d.created_ns),
+        "last_seen": human_time(d.last_seen_ns) if d.last_seen_ns is not None else None,
+    }
+
+
+@router.get("/twins/{slug}/devices", summary="The devices of a twin (viewers)")
+async def list_devices(slug: str, caller: Caller, devices: Devices) -> dict[str, Any]:
+    return {"devices": [device_view(d) for d in await devices.list(caller, slug)]}
+
+
+@router.post(
+    "/twins/{slug}/devices",
+    status_code=201,
+    summary="Add a device (editors); its token is in the answer, once",
+)
+async def create_device(
+    slug: str, body: NewDevice, caller: Caller, devices: Devices
+) -> dict[str, Any]:
+    device, token = await devices.create(caller, slug, body.name, body.description)
+    return {**device_view(device), "token": token}
+
+
+@router.get("/twins/{slug}/devices/{device}", summary="One device (viewers)")
+async def get_device(slug: str, device: str, caller: Caller, devices: Devices) -> dict[str, Any]:
+    return device_view(await devices.get(caller, slug, device))
+
+
+@router.post(
+    "/twins/{slug}/devices/{device}/token",
+    summary="Replace a device's token (editors); the old one stops working",
+)
+async def rotate_device_token(
+    slug: str, device: str, caller: Caller, devices: Devices
+) -> dict[str, Any]:
+    record, token = await devices.rotate(caller, slug, device)
+    return {**device_view(record), "token": token}
+
+
+@router.delete("/twins/{slug}/devices/{device}", summary="Remove a device and its token (editors)")
+async def delete_device(slug: str, device: str, caller: Caller, devices: Devices) -> dict[str, Any]:
+    await devices.delete(caller, slug, device)
+    return {"deleted": device}
+
+
+@router.get("/device", summary="The device a device token belongs to (device tokens only)")
+async def whoami(device: ThisDevice) -> dict[str, Any]:
+    return device_view(device)

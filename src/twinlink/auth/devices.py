@@ -1,0 +1,93 @@
+"""Devices of a twin and their credentials.
+
+A device token (`tld_...`, 256 random bits, stored as a SHA-256 hash, shown once) is accepted
+only on the device-facing routes and only for its own twin; user API tokens are not accepted
+there, and device tokens are not accepted anywhere else.
+"""
+
+from __future__ import annotations
+
+import re
+import secrets
+import sqlite3
+
+from twinlink.auth.rights import Principal, has_role
+from twinlink.auth.secrets import hash_token, token_prefix
+from twinlink.auth.service import AuthError, now_ns
+from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
+from twinlink.registry.service import RegistryService
+from twinlink.store.base import MetadataStore
+from twinlink.store.records import Device, TwinRecord
+
+DEVICE_TOKEN_PREFIX = "tld_"
+DEVICE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$")
+_TOUCH_EVERY_NS = 60 * 1_000_000_000
+
+
+def new_device_token() -> str:
+    return DEVICE_TOKEN_PREFIX + secrets.token_urlsafe(32)
+
+
+class DeviceService:
+    def __init__(self, store: MetadataStore, registry: RegistryService) -> None:
+        self.store = store
+        self.registry = registry
+
+    async def _twin(self, principal: Principal, slug: str, needed: str) -> TwinRecord:
+        twin, role = await self.registry.require_twin(principal, slug)
+        if not has_role(principal, role, needed):
+            raise ForbiddenError(f"the devices of {slug!r} need the {needed} role")
+        return twin
+
+    async def _device(self, principal: Principal, slug: str, name: str, needed: str) -> Device:
+        twin = await self._twin(principal, slug, needed)
+        device = await self.store.get_device(twin.id, name)
+        if device is None:
+            raise NotFoundError(f"twin {slug!r} has no device {name!r}")
+        return device
+
+    async def list(self, principal: Principal, slug: str) -> list[Device]:
+        return await self.store.list_devices((await self._twin(principal, slug, "viewer")).id)
+
+    async def get(self, principal: Principal, slug: str, name: str) -> Device:
+        return await self._device(principal, slug, name, "viewer")
+
+    async def create(
+        self, principal: Principal, slug: str, name: str, description: str
+    ) -> tuple[Device, str]:
+        """The new device and its token; the token is not kept and cannot be shown again."""
+        twin = await self._twin(principal, slug, "editor")
+        if not DEVICE_NAME.match(name):
+            raise ConflictError(f"device name {name!r}: use 1-64 letters, digits, . _ : -")
+        if await self.store.get_device(twin.id, name) is not None:
+            raise ConflictError(f"twin {slug!r} already has a device {name!r}")
+        token = new_device_token()
+        try:
+            device = await self.store.create_device(
+                twin.id, name, description, hash_token(token), token_prefix(token), now_ns()
+            )
+        except sqlite3.IntegrityError as err:  # created by a concurrent request meanwhile
+            raise ConflictError(f"twin {slug!r} already has a device {name!r}") from err
+        return device, token
+
+    async def rotate(self, principal: Principal, slug: str, name: str) -> tuple[Device, str]:
+        """A new token for the device; the old one stops working at once."""
+        device = await self._device(principal, slug, name, "editor")
+        token = new_device_token()
+        await self.store.set_device_token(device.id, hash_token(token), token_prefix(token))
+        device.prefix = token_prefix(token)
+        return device, token
+
+    async def delete(self, principal: Principal, slug: str, name: str) -> None:
+        device = await self._device(principal, slug, name, "editor")
+        await self.store.delete_device(device.id)
+
+    async def authenticate(self, token: str) -> Device:
+        device = await self.store.find_device(hash_token(token))
+        if device is None:
+            raise AuthError("the device token is not valid")
+        now = now_ns()
+        if device.last_seen_ns is None or now - device.last_seen_ns > _TOUCH_EVERY_NS:
+            await self.store.touch_device(device.id, now)
+            device.last_seen_ns = now
+        return device

@@ -1,0 +1,85 @@
+"""Devices and their credentials in SQLite."""
+
+from __future__ import annotations
+
+import sqlite3
+
+from twinlink.store.records import Device
+from twinlink.store.sqlite.db import Database
+
+_COLUMNS = "d.id, d.twin_id, t.slug, d.name, d.description, d.prefix, d.created_ns, d.last_seen_ns"
+_FROM = "FROM devices d JOIN twins t ON t.id = d.twin_id"
+
+
+def _device(row: sqlite3.Row) -> Device:
+    return Device(
+        id=row["id"],
+        twin_id=row["twin_id"],
+        twin_slug=row["slug"],
+        name=row["name"],
+        description=row["description"],
+        prefix=row["prefix"],
+        created_ns=row["created_ns"],
+        last_seen_ns=row["last_seen_ns"],
+    )
+
+
+class DeviceTables:
+    db: Database
+
+    async def create_device(
+        self, twin_id: int, name: str, description: str, token_hash: bytes, prefix: str, now_ns: int
+    ) -> Device:
+        def _create(c: sqlite3.Connection) -> Device:
+            device_id = c.execute(
+                "INSERT INTO devices(twin_id, name, description, token_hash, prefix, created_ns)"
+                " VALUES (?, ?, ?, ?, ?, ?)",
+                (twin_id, name, description, token_hash, prefix, now_ns),
+            ).lastrowid
+            return _device(
+                c.execute(f"SELECT {_COLUMNS} {_FROM} WHERE d.id = ?", (device_id,)).fetchone()
+            )
+
+        return await self.db.write(_create)
+
+    async def list_devices(self, twin_id: int) -> list[Device]:
+        rows = await self.db.read(
+            lambda c: c.execute(
+                f"SELECT {_COLUMNS} {_FROM} WHERE d.twin_id = ? ORDER BY d.name", (twin_id,)
+            ).fetchall()
+        )
+        return [_device(r) for r in rows]
+
+    async def get_device(self, twin_id: int, name: str) -> Device | None:
+        row = await self.db.read(
+            lambda c: c.execute(
+                f"SELECT {_COLUMNS} {_FROM} WHERE d.twin_id = ? AND d.name = ?", (twin_id, name)
+            ).fetchone()
+        )
+        return _device(row) if row else None
+
+    async def find_device(self, token_hash: bytes) -> Device | None:
+        row = await self.db.read(
+            lambda c: c.execute(
+                f"SELECT {_COLUMNS} {_FROM} WHERE d.token_hash = ?", (token_hash,)
+            ).fetchone()
+        )
+        return _device(row) if row else None
+
+    async def set_device_token(self, device_id: int, token_hash: bytes, prefix: str) -> None:
+        await self.db.write(
+            lambda c: c.execute(
+                "UPDATE devices SET token_hash = ?, prefix = ? WHERE id = ?",
+                (token_hash, prefix, device_id),
+            )
+        )
+
+    async def touch_device(self, device_id: int, now_ns: int) -> None:
+        await self.db.write(
+            lambda c: c.execute(
+                "UPDATE devices SET last_seen_ns = ? WHERE id = ?", (now_ns, device_id)
+            )
+        )
+
+    async def delete_device(self, device_id: int) -> None:
+        await self.db.write(lambda c: c.execute("DELETE FROM devices WHERE id = ?", (device_id,)))
