@@ -7,24 +7,12 @@ from pathlib import Path
 from typing import Any
 
 import click
-import orjson
 
-from twinlink.client import Client, ClientError, forget_credentials, save_credentials
+from twinlink.cli_common import client_for, emit
+from twinlink.client import ClientError, forget_credentials, save_credentials
 from twinlink.config import ConfigError
-from twinlink.domain.yamlsource import dump_yaml
 
 YAML_SUFFIXES = (".yaml", ".yml", ".json")
-
-
-def _emit(data: Any, as_json: bool) -> None:
-    if as_json:
-        click.echo(orjson.dumps(data, option=orjson.OPT_INDENT_2).decode())
-    else:
-        click.echo(dump_yaml(data).rstrip())
-
-
-def _client(ctx: click.Context) -> Client:
-    return Client(ctx.obj["url"], ctx.obj["token"])
 
 
 class _Group(click.Group):
@@ -74,7 +62,7 @@ main.add_command(demo)
 @click.pass_context
 def login(ctx: click.Context, username: str, password: str) -> None:
     """Sign in and save a session token for the other commands."""
-    client = _client(ctx)
+    client = client_for(ctx)
     answer = client.json(
         "POST", "/api/v1/auth/login", json={"username": username, "password": password}
     )
@@ -89,7 +77,7 @@ def login(ctx: click.Context, username: str, password: str) -> None:
 @click.pass_context
 def logout(ctx: click.Context) -> None:
     """Revoke the saved session token and forget it."""
-    client = _client(ctx)
+    client = client_for(ctx)
     if client.token:
         try:
             client.json("POST", "/api/v1/auth/logout")
@@ -126,7 +114,7 @@ def _document_files(paths: tuple[str, ...]) -> list[Path]:
 @click.pass_context
 def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
     """Create or update twins from DT documents (idempotent, like kubectl apply)."""
-    client = _client(ctx)
+    client = client_for(ctx)
     failed = False
     sources: list[tuple[str, bytes]] = []
     for path in paths:
@@ -163,11 +151,11 @@ def search(
     ctx: click.Context, query: tuple[str, ...], keyword: str | None, limit: int, as_json: bool
 ) -> None:
     """Find twins and the features that match QUERY."""
-    answer = _client(ctx).json(
+    answer = client_for(ctx).json(
         "GET", "/api/v1/search", params={"q": " ".join(query), "keyword": keyword, "limit": limit}
     )
     if as_json:
-        _emit(answer, True)
+        emit(answer, True)
         return
     for hit in answer["hits"]:
         features = [m["feature"] for m in hit["matches"] if m["feature"]]

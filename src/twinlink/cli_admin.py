@@ -1,22 +1,10 @@
-"""`twinlink twins|users|tokens`: registry and account administration over the API."""
+"""`twinlink twins|devices|users|tokens`: registry and account administration over the API."""
 
 from __future__ import annotations
 
 import click
 
-from twinlink.client import Client
-
-
-def _client(ctx: click.Context) -> Client:
-    root = ctx.find_root()
-    return Client(root.obj["url"], root.obj["token"])
-
-
-def _emit(data: object, as_json: bool) -> None:
-    from twinlink.cli import _emit as emit
-
-    emit(data, as_json)
-
+from twinlink.cli_common import client_for, emit
 
 # -- twins ---------------------------------------------------------------------------------
 
@@ -36,7 +24,7 @@ def twins_ls(
     ctx: click.Context, keyword: str | None, name: str | None, mine: bool, as_json: bool
 ) -> None:
     """List the twins you may see (all pages)."""
-    client = _client(ctx)
+    client = client_for(ctx)
     items, cursor = [], None
     while True:
         page = client.json(
@@ -49,7 +37,7 @@ def twins_ls(
         if not cursor:
             break
     if as_json:
-        _emit(items, True)
+        emit(items, True)
         return
     for t in items:
         click.echo(f"{t['slug']:<28} {t['name']:<32} {','.join(t['levels'])}")
@@ -63,8 +51,8 @@ def twins_ls(
 @click.pass_context
 def twins_get(ctx: click.Context, slug: str, output: str) -> None:
     """Print a twin's DT document as you may see it."""
-    answer = _client(ctx).json("GET", f"/api/v1/twins/{slug}")
-    _emit(answer["document"], output == "json")
+    answer = client_for(ctx).json("GET", f"/api/v1/twins/{slug}")
+    emit(answer["document"], output == "json")
 
 
 @twins.command("rm")
@@ -73,7 +61,7 @@ def twins_get(ctx: click.Context, slug: str, output: str) -> None:
 @click.pass_context
 def twins_rm(ctx: click.Context, slugs: tuple[str, ...], cascade: bool) -> None:
     """Delete twins."""
-    client = _client(ctx)
+    client = client_for(ctx)
     for slug in slugs:
         answer = client.json("DELETE", f"/api/v1/twins/{slug}", params={"cascade": cascade})
         click.echo(f"deleted {', '.join(answer['deleted'])}")
@@ -86,7 +74,7 @@ def twins_rm(ctx: click.Context, slugs: tuple[str, ...], cascade: bool) -> None:
 @click.pass_context
 def twins_tree(ctx: click.Context, slug: str, up: bool, depth: int) -> None:
     """Show the composition tree below (or above) a twin."""
-    node = _client(ctx).json(
+    node = client_for(ctx).json(
         "GET",
         f"/api/v1/twins/{slug}/relations",
         params={"direction": "up" if up else "down", "depth": depth},
@@ -106,7 +94,7 @@ def twins_tree(ctx: click.Context, slug: str, up: bool, depth: int) -> None:
 @click.pass_context
 def twins_roles(ctx: click.Context, slug: str) -> None:
     """Show who has which role on a twin."""
-    for r in _client(ctx).json("GET", f"/api/v1/twins/{slug}/roles")["roles"]:
+    for r in client_for(ctx).json("GET", f"/api/v1/twins/{slug}/roles")["roles"]:
         click.echo(f"{r['username']:<24} {r['role']}")
 
 
@@ -117,7 +105,7 @@ def twins_roles(ctx: click.Context, slug: str) -> None:
 @click.pass_context
 def twins_grant(ctx: click.Context, slug: str, username: str, role: str) -> None:
     """Give USERNAME a ROLE on a twin (owners only)."""
-    _client(ctx).json("PUT", f"/api/v1/twins/{slug}/roles/{username}", json={"role": role})
+    client_for(ctx).json("PUT", f"/api/v1/twins/{slug}/roles/{username}", json={"role": role})
     click.echo(f"{username} is {role} of {slug}")
 
 
@@ -127,7 +115,7 @@ def twins_grant(ctx: click.Context, slug: str, username: str, role: str) -> None
 @click.pass_context
 def twins_revoke(ctx: click.Context, slug: str, username: str) -> None:
     """Take USERNAME's role on a twin away (owners only)."""
-    _client(ctx).json("DELETE", f"/api/v1/twins/{slug}/roles/{username}")
+    client_for(ctx).json("DELETE", f"/api/v1/twins/{slug}/roles/{username}")
     click.echo(f"{username} has no role on {slug}")
 
 
@@ -143,7 +131,7 @@ def users() -> None:
 @click.pass_context
 def users_ls(ctx: click.Context) -> None:
     """List users."""
-    for u in _client(ctx).json("GET", "/api/v1/users")["users"]:
+    for u in client_for(ctx).json("GET", "/api/v1/users")["users"]:
         flags = [
             x for x in ("admin" if u["is_admin"] else "", "disabled" if u["disabled"] else "") if x
         ]
@@ -172,7 +160,7 @@ def users_add(
     """Create a user."""
     if password is None and not no_password:
         password = click.prompt("Password", hide_input=True, confirmation_prompt=True)
-    _client(ctx).json(
+    client_for(ctx).json(
         "POST",
         "/api/v1/users",
         json={
@@ -206,7 +194,7 @@ def users_set(
     body: dict[str, object] = {"password": password, "is_admin": admin, "disabled": disabled}
     if groups or no_groups:
         body["groups"] = [] if no_groups else list(groups)
-    _client(ctx).json(
+    client_for(ctx).json(
         "PATCH", f"/api/v1/users/{username}", json={k: v for k, v in body.items() if v is not None}
     )
     click.echo(f"updated user {username}")
@@ -217,7 +205,7 @@ def users_set(
 @click.pass_context
 def users_rm(ctx: click.Context, username: str) -> None:
     """Delete a user."""
-    _client(ctx).json("DELETE", f"/api/v1/users/{username}")
+    client_for(ctx).json("DELETE", f"/api/v1/users/{username}")
     click.echo(f"deleted user {username}")
 
 
@@ -234,7 +222,7 @@ def tokens() -> None:
 @click.pass_context
 def tokens_ls(ctx: click.Context, all_users: bool) -> None:
     """List your API tokens (never their secrets)."""
-    for t in _client(ctx).json("GET", "/api/v1/tokens", params={"all": all_users})["tokens"]:
+    for t in client_for(ctx).json("GET", "/api/v1/tokens", params={"all": all_users})["tokens"]:
         state = t["state"]
         if state == "active":
             state = f"expires {t['expires']}" if t["expires"] else "no expiry"
@@ -249,7 +237,7 @@ def tokens_ls(ctx: click.Context, all_users: bool) -> None:
 def tokens_create(ctx: click.Context, name: str, expires_in: int | None, user: str | None) -> None:
     """Create an API token; its secret is printed once."""
     path = f"/api/v1/users/{user}/tokens" if user else "/api/v1/tokens"
-    answer = _client(ctx).json("POST", path, json={"name": name, "expires_in_s": expires_in})
+    answer = client_for(ctx).json("POST", path, json={"name": name, "expires_in_s": expires_in})
     click.echo(answer["token"])
     click.echo(f"(token {answer['id']} '{name}': shown once, store it now)", err=True)
 
@@ -259,7 +247,7 @@ def tokens_create(ctx: click.Context, name: str, expires_in: int | None, user: s
 @click.pass_context
 def tokens_revoke(ctx: click.Context, token_id: int) -> None:
     """Revoke an API token by its id."""
-    _client(ctx).json("DELETE", f"/api/v1/tokens/{token_id}")
+    client_for(ctx).json("DELETE", f"/api/v1/tokens/{token_id}")
     click.echo(f"revoked token {token_id}")
 
 
@@ -276,7 +264,7 @@ def devices() -> None:
 @click.pass_context
 def devices_ls(ctx: click.Context, slug: str) -> None:
     """List a twin's devices (never their tokens)."""
-    for d in _client(ctx).json("GET", f"/api/v1/twins/{slug}/devices")["devices"]:
+    for d in client_for(ctx).json("GET", f"/api/v1/twins/{slug}/devices")["devices"]:
         seen = d["last_seen"] or "never seen"
         click.echo(f"{d['name']:<24} {d['token_prefix']}…  {seen}  {d['description']}".rstrip())
 
@@ -288,7 +276,7 @@ def devices_ls(ctx: click.Context, slug: str) -> None:
 @click.pass_context
 def devices_add(ctx: click.Context, slug: str, name: str, description: str) -> None:
     """Add device NAME to a twin; its token is printed once."""
-    answer = _client(ctx).json(
+    answer = client_for(ctx).json(
         "POST", f"/api/v1/twins/{slug}/devices", json={"name": name, "description": description}
     )
     click.echo(answer["token"])
@@ -301,7 +289,7 @@ def devices_add(ctx: click.Context, slug: str, name: str, description: str) -> N
 @click.pass_context
 def devices_token(ctx: click.Context, slug: str, name: str) -> None:
     """Give device NAME a new token (printed once); the old one stops working."""
-    answer = _client(ctx).json("POST", f"/api/v1/twins/{slug}/devices/{name}/token")
+    answer = client_for(ctx).json("POST", f"/api/v1/twins/{slug}/devices/{name}/token")
     click.echo(answer["token"])
     click.echo(f"(new token for {name}: shown once; the old token no longer works)", err=True)
 
@@ -312,5 +300,5 @@ def devices_token(ctx: click.Context, slug: str, name: str) -> None:
 @click.pass_context
 def devices_rm(ctx: click.Context, slug: str, name: str) -> None:
     """Remove device NAME and its token."""
-    _client(ctx).json("DELETE", f"/api/v1/twins/{slug}/devices/{name}")
+    client_for(ctx).json("DELETE", f"/api/v1/twins/{slug}/devices/{name}")
     click.echo(f"removed device {name} of {slug}")

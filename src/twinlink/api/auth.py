@@ -12,7 +12,7 @@ from twinlink.api.deps import Admin, Auth, Caller
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError
 from twinlink.domain.errors import ForbiddenError, NotFoundError
-from twinlink.registry.build import human_time
+from twinlink.registry.build import human_time, human_time_or_none
 from twinlink.store.records import ApiToken, User
 
 router = APIRouter(prefix="/api/v1", tags=["auth"])
@@ -67,9 +67,6 @@ def user_view(u: User) -> dict[str, Any]:
 
 
 def token_view(t: ApiToken) -> dict[str, Any]:
-    def when(ns: int | None) -> str | None:
-        return human_time(ns) if ns is not None else None
-
     now = time.time_ns()
     state = "active"
     if t.revoked_ns is not None:
@@ -82,10 +79,10 @@ def token_view(t: ApiToken) -> dict[str, Any]:
         "state": state,
         "prefix": t.prefix,
         "kind": t.kind,
-        "created": when(t.created_ns),
-        "expires": when(t.expires_ns),
-        "last_used": when(t.last_used_ns),
-        "revoked": when(t.revoked_ns),
+        "created": human_time(t.created_ns),
+        "expires": human_time_or_none(t.expires_ns),
+        "last_used": human_time_or_none(t.last_used_ns),
+        "revoked": human_time_or_none(t.revoked_ns),
     }
 
 

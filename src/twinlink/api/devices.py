@@ -11,7 +11,7 @@ from pydantic import BaseModel, Field
 from twinlink.api.deps import Caller
 from twinlink.auth.devices import DEVICE_NAME, DeviceService
 from twinlink.auth.service import AuthError
-from twinlink.registry.build import human_time
+from twinlink.registry.build import human_time, human_time_or_none
 from twinlink.store.records import Device
 
 router = APIRouter(prefix="/api/v1", tags=["devices"])
@@ -51,7 +51,7 @@ def device_view(d: Device) -> dict[str, Any]:
         "description": d.description,
         "token_prefix": d.prefix,
         "created": human_time(d.created_ns),
-        "last_seen": human_time(d.last_seen_ns) if d.last_seen_ns is not None else None,
+        "last_seen": human_time_or_none(d.last_seen_ns),
     }
 
 

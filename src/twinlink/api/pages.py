@@ -44,7 +44,7 @@ def _negotiate(accept: str) -> str:
 
 
 async def _serve(slug: str, fmt: str, caller: MaybeCaller, reg: Registry) -> Response:
-    twin, doc = await reg.document(caller, slug)
+    twin, _, doc = await reg.document(caller, slug)
     headers = {
         "Vary": "Accept, Authorization",
         "Link": f'<{reg.canonical_url(twin.slug)}>; rel="canonical"',

@@ -93,8 +93,7 @@ async def apply(request: Request, caller: Caller, reg: Registry) -> dict[str, An
     response_class=JSONAnswer,
 )
 async def get_twin(slug: str, caller: Caller, reg: Registry) -> JSONAnswer:
-    twin, document = await reg.document(caller, slug)
-    role = await reg.role_of(caller, twin)
+    twin, role, document = await reg.document(caller, slug)
     levels = [lv for lv in twin.levels if may_see_level(caller, role, lv)]
     return JSONAnswer(
         {

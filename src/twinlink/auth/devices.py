@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import re
 import secrets
-import sqlite3
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.secrets import hash_token, token_prefix
@@ -62,12 +61,9 @@ class DeviceService:
         if await self.store.get_device(twin.id, name) is not None:
             raise ConflictError(f"twin {slug!r} already has a device {name!r}")
         token = new_device_token()
-        try:
-            device = await self.store.create_device(
-                twin.id, name, description, hash_token(token), token_prefix(token), now_ns()
-            )
-        except sqlite3.IntegrityError as err:  # created by a concurrent request meanwhile
-            raise ConflictError(f"twin {slug!r} already has a device {name!r}") from err
+        device = await self.store.create_device(
+            twin.id, name, description, hash_token(token), token_prefix(token), now_ns()
+        )
         return device, token
 
     async def rotate(self, principal: Principal, slug: str, name: str) -> tuple[Device, str]:

@@ -15,7 +15,7 @@ from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.build import declared_edges, imported_created_ns, search_rows
 from twinlink.registry.documents import REFUSED, TwinParts
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import Edge, TwinRecord, TwinWrite
+from twinlink.store.records import TwinRecord, TwinWrite
 
 Outcome = Literal["created", "updated", "unchanged"]
 Mode = Literal["apply", "create", "update"]
@@ -77,7 +77,8 @@ class Applier:
             ):
                 raise ConflictError(f"cannot rename {existing.slug!r}: {new_slug!r} is taken")
             dt_id = existing.dt_id
-            parts = await self.store.get_parts(existing.id)
+            old_parts = await self.store.get_parts(existing.id)
+            parts = dict(old_parts)
             created = existing.created_ns
         else:
             part = group.first[0]
@@ -89,6 +90,7 @@ class Applier:
                     raise ConflictError(f"the slug {new_slug!r} is asked for twice or taken")
                 new_slug = await self._free_slug(new_slug, reserved)
             dt_id = group.global_id or self.canonical_url(new_slug)
+            old_parts = None
             parts = {}
             imported = [imported_created_ns(src.data) for _, _, src in group.parts.values()]
             created = next((c for c in imported if c is not None), time.time_ns())
@@ -105,7 +107,9 @@ class Applier:
         reserved.add(new_slug)
         for level, (_, body, _) in group.parts.items():
             parts[level] = body
-        return await self.plan_write(principal, existing, new_slug, dt_id, parts, created)
+        return await self.plan_write(
+            principal, existing, new_slug, dt_id, parts, created, old_parts
+        )
 
     async def plan_write(
         self,
@@ -115,16 +119,14 @@ class Applier:
         dt_id: str,
         parts: dict[str, dict[str, Any]],
         created_ns: int,
+        old_parts: dict[str, dict[str, Any]] | None = None,
     ) -> _Plan:
+        """What writing `parts` would change; nothing when they equal `old_parts` (the edges a
+        twin declares follow from its parts, so equal parts declare equal edges)."""
+        if existing is not None and existing.slug == slug and old_parts == parts:
+            return _Plan(existing, None)
         models = {level: validate_part(SourceDocument(body))[0] for level, body in parts.items()}
         edges = declared_edges(dt_id, models)
-        if existing is not None and existing.slug == slug:
-            old_parts = await self.store.get_parts(existing.id)
-            old_edges = [
-                e for e in await self.store.edges_touching([dt_id]) if e.declared_by == dt_id
-            ]
-            if old_parts == parts and _edge_keys(old_edges) == _edge_keys(edges):
-                return _Plan(existing, None)
         write = TwinWrite(
             slug=slug,
             dt_id=dt_id,
@@ -190,10 +192,6 @@ class Applier:
             if candidate not in reserved and await self.store.get_twin(candidate) is None:
                 return candidate
         raise ConflictError(f"no free slug near {base!r}")
-
-
-def _edge_keys(edges: list[Edge]) -> set[tuple[str, str, str, str]]:
-    return {(e.source, e.kind, e.target, e.privacy) for e in edges}
 
 
 def _public_name(parts: dict[str, dict[str, Any]]) -> str:

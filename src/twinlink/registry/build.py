@@ -112,6 +112,10 @@ def human_time(ns: int) -> str:
     return moment.isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
+def human_time_or_none(ns: int | None) -> str | None:
+    return None if ns is None else human_time(ns)
+
+
 def imported_created_ns(raw: dict[str, Any]) -> int | None:
     """The creation time a document brings with it (`createdMachine` or `createdHuman`)."""
     machine = raw.get("createdMachine")

@@ -11,12 +11,12 @@ from twinlink.auth.rights import Principal, has_role, may_see_level
 from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.apply import Applied, Applier, Mode
-from twinlink.registry.documents import group_by_twin, parse_documents
+from twinlink.registry.documents import group_by_twin
 from twinlink.registry.views import render_document
 from twinlink.store.base import MetadataStore
 from twinlink.store.records import Edge, TwinRecord
 
-__all__ = ["Applied", "RegistryService", "parse_documents"]
+__all__ = ["Applied", "RegistryService"]
 
 
 class RegistryService:
@@ -65,7 +65,10 @@ class RegistryService:
             raise NotFoundError(f"no twin {slug!r}")
         return twin, role
 
-    async def document(self, principal: Principal, slug: str) -> tuple[TwinRecord, dict[str, Any]]:
+    async def document(
+        self, principal: Principal, slug: str
+    ) -> tuple[TwinRecord, str | None, dict[str, Any]]:
+        """The twin, the caller's role on it, and the document as the caller may see it."""
         twin, role = await self.require_twin(principal, slug)
         parts = {
             k: v
@@ -73,7 +76,7 @@ class RegistryService:
             if may_see_level(principal, role, k)
         }
         edges = await self.visible_edges(principal, await self.store.edges_touching([twin.dt_id]))
-        return twin, render_document(twin, parts, edges, self.canonical_url(twin.slug))
+        return twin, role, render_document(twin, parts, edges, self.canonical_url(twin.slug))
 
     async def visible_edges(self, principal: Principal, edges: list[Edge]) -> list[Edge]:
         """Edges whose declaring part the caller may see (a relation declared in a twin's

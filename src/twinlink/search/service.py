@@ -7,7 +7,6 @@ from typing import Any
 
 from twinlink.auth.rights import Principal
 from twinlink.store.base import MetadataStore
-from twinlink.store.sqlite.search import FACET_SAMPLE
 
 _WORD = re.compile(r"\w+", re.UNICODE)
 MAX_TERMS = 8
@@ -39,6 +38,6 @@ class SearchService:
             "hits": result.hits,
             "facets": {
                 "keywords": [{"value": k, "count": n} for k, n in result.facets],
-                "counted_hits": min(result.total, FACET_SAMPLE),
+                "counted_hits": result.facet_hits,
             },
         }

@@ -109,3 +109,4 @@ class SearchResult:
     total: int
     hits: list[dict[str, Any]]
     facets: list[tuple[str, int]]
+    facet_hits: int = 0  # how many of the best hits the facets were counted over

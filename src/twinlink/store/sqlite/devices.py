@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sqlite3
 
+from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Device
 from twinlink.store.sqlite.db import Database
 
@@ -40,7 +41,10 @@ class DeviceTables:
                 c.execute(f"SELECT {_COLUMNS} {_FROM} WHERE d.id = ?", (device_id,)).fetchone()
             )
 
-        return await self.db.write(_create)
+        try:
+            return await self.db.write(_create)
+        except sqlite3.IntegrityError as err:  # another request created it meanwhile
+            raise ConflictError(f"the twin already has a device {name!r}") from err
 
     async def list_devices(self, twin_id: int) -> list[Device]:
         rows = await self.db.read(

@@ -151,7 +151,9 @@ class _Search:
             for t, score in page
         ]
         facets = self._facets([t for t, _ in ranked[:FACET_SAMPLE]], facet_limit)
-        return SearchResult(total=total, hits=hits, facets=facets)
+        return SearchResult(
+            total=total, hits=hits, facets=facets, facet_hits=min(len(ranked), FACET_SAMPLE)
+        )
 
     def _keyword_filter(self, twin_expr: str) -> tuple[str, list[object]]:
         if not self.keyword:
