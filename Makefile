@@ -7,7 +7,7 @@
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
-STAMP  := $(VENV)/.installed-$(shell cksum < pyproject.toml | cut -d" " -f1)
+STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml edge/pyproject.toml | cksum | cut -d" " -f1)
 HOST   ?= 127.0.0.1
 PORT   ?= 8000
 
@@ -15,11 +15,11 @@ PORT   ?= 8000
 
 setup: $(STAMP)
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml edge/pyproject.toml
 	@scripts/ensure-python.sh $(PYTHON)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	$(BIN)/python -m pip install --quiet -e ./edge -e ".[dev]"
 	@rm -f $(VENV)/.installed-*
 	@touch $@
 
@@ -40,13 +40,13 @@ bench: $(STAMP)
 	$(BIN)/python bench/api.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests bench
-	$(BIN)/ruff format --check src tests bench
+	$(BIN)/ruff check src edge tests bench
+	$(BIN)/ruff format --check src edge tests bench
 	$(BIN)/mypy
 
 format: $(STAMP)
-	$(BIN)/ruff format src tests bench
-	$(BIN)/ruff check --fix src tests bench
+	$(BIN)/ruff format src edge tests bench
+	$(BIN)/ruff check --fix src edge tests bench
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info

@@ -10,15 +10,29 @@ from dataclasses import dataclass
 from fastapi import FastAPI
 
 from twinlink import __version__
-from twinlink.api import apidocs, auth, devices, pages, problems, search, system, twins
+from twinlink.api import (
+    apidocs,
+    auth,
+    device_ws,
+    devices,
+    pages,
+    problems,
+    search,
+    system,
+    twins,
+)
 from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthService, Bootstrap
+from twinlink.bus import Bus, MemoryBus
 from twinlink.config import Settings
+from twinlink.ingest.service import IngestService
+from twinlink.ingest.sessions import DeviceHub
 from twinlink.metrics import Metrics, MetricsMiddleware
 from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
 from twinlink.store.sqlite import SqliteStore
+from twinlink.store.sqlite.history import SqliteHistory
 
 log = logging.getLogger("twinlink.app")
 
@@ -30,17 +44,27 @@ class Services:
     registry: RegistryService
     search: SearchService
     devices: DeviceService
+    bus: Bus
+    history: SqliteHistory
+    ingest: IngestService
+    device_hub: DeviceHub
 
 
 def build_services(settings: Settings) -> Services:
     store: MetadataStore = SqliteStore(settings.data_dir)
     registry = RegistryService(store, settings.base_url)
+    bus = MemoryBus()
+    history = SqliteHistory(settings.data_dir, settings.history_sync)
     return Services(
         store=store,
         auth=AuthService(store, settings.session_ttl_s),
         registry=registry,
         search=SearchService(store),
         devices=DeviceService(store, registry),
+        bus=bus,
+        history=history,
+        ingest=IngestService(registry, history, bus),
+        device_hub=DeviceHub(),
     )
 
 
@@ -55,6 +79,8 @@ def create_app(
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         await services.store.open()
+        await services.history.open()
+        await services.bus.start()
         created = await services.auth.bootstrap(
             settings.admin_token.get_secret_value() if settings.admin_token else None,
             settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -69,6 +95,8 @@ def create_app(
         try:
             yield
         finally:
+            await services.bus.stop()
+            await services.history.close()
             await services.store.close()
 
     app = FastAPI(
@@ -87,7 +115,7 @@ def create_app(
     app.state.services = services
     app.state.metrics = metrics
     problems.install(app)
-    for module in (system, auth, twins, devices, search, pages):
+    for module in (system, auth, twins, devices, device_ws, search, pages):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

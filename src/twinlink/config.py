@@ -69,6 +69,29 @@ class Settings(BaseSettings):
         "json", description="Log line format: json (one object a line) or text."
     )
     access_log: bool = Field(False, description="Log one line per HTTP request.")
+    history_sync: Literal["full", "normal"] = Field(
+        "full",
+        description="How history commits reach the disk: full (fsync every group commit; an "
+        "acknowledged sample survives a power cut) or normal (survives a crash of the process, "
+        "not of the machine; faster on slow disks).",
+    )
+    history_retention_days: float = Field(
+        0,
+        ge=0,
+        description="Delete history older than this many days (checked every 10 minutes). "
+        "0 keeps everything.",
+    )
+    live_queue_messages: int = Field(
+        256,
+        gt=0,
+        description="Messages queued for one live WebSocket client before the oldest are "
+        "dropped (and the client told).",
+    )
+    command_timeout_s: float = Field(
+        10,
+        gt=0,
+        description="Default time a command waits for the device's result before it expires.",
+    )
 
     @classmethod
     def settings_customise_sources(

@@ -68,6 +68,10 @@ def serve(
         access_log=settings.access_log,
         lifespan="on",
         server_header=False,
+        # A device batch may be up to 16 MiB (docs/protocol.md); larger frames close with 1009.
+        ws_max_size=16 * 1024 * 1024 + 4096,
+        ws_ping_interval=20.0,
+        ws_ping_timeout=20.0,
         proxy_headers=False,
     )
     # Server.run picks the event loop (uvloop when installed, as with uvicorn[standard]).

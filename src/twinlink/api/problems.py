@@ -18,6 +18,7 @@ from twinlink.domain.errors import (
     DocumentError,
     DocumentTooLargeError,
     ForbiddenError,
+    InvalidInputError,
     NotFoundError,
 )
 
@@ -74,6 +75,10 @@ def install(app: FastAPI) -> None:
         first = exc.problems[0] if exc.problems else None
         detail = exc.title if first is None else f"{exc.title} First: {first}"
         return problem(status, detail, errors=[p.as_dict() for p in exc.problems])
+
+    @app.exception_handler(InvalidInputError)
+    async def _invalid_input(_: Request, exc: InvalidInputError) -> Response:
+        return problem(422, str(exc))
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(_: Request, exc: RequestValidationError) -> Response:

@@ -121,6 +121,9 @@ class Interface(_Open):
     signals: list[Signal] = Field(default_factory=list)
     properties: list[Property] = Field(default_factory=list)
     commands: list[Command] = Field(default_factory=list)
+    # What ingest does with values the signals above do not describe (docs/protocol.md).
+    unknown_signals: Literal["accept", "drop", "reject"] = "accept"
+    out_of_range: Literal["accept", "reject"] = "reject"
 
 
 class DocumentPart(_Open):

@@ -56,3 +56,7 @@ class ForbiddenError(Exception):
 
 class ConflictError(Exception):
     """The request contradicts the current state (a cycle, existing children, a taken name)."""
+
+
+class InvalidInputError(ValueError):
+    """A request that cannot be used as sent (HTTP 422); the message says what to change."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 from collections import defaultdict
+from collections.abc import Callable
 from typing import Any, Literal
 
 from twinlink.auth.rights import Principal, has_role, may_see_level
@@ -27,6 +28,11 @@ class RegistryService:
         # Plans read the registry and the write then relies on what they read; one change at
         # a time in this process keeps that sound (the store refuses cycles on its own too).
         self._write_lock = asyncio.Lock()
+        # Bumped by every change, so caches of derived data (ingest's interface rules) can
+        # tell they are stale without a query.
+        self.generation = 0
+        # Called with the ids of deleted twins, so other stores can drop what they hold.
+        self.deleted_listeners: list[Callable[[list[int]], None]] = []
 
     def canonical_url(self, slug: str) -> str:
         return f"{self.base_url}/twins/{slug}"
@@ -45,7 +51,10 @@ class RegistryService:
             raise ForbiddenError("sign in to change twins")
         groups = group_by_twin(docs, slug)
         async with self._write_lock:
-            return await self.applier.apply(principal, groups, slug, mode)
+            try:
+                return await self.applier.apply(principal, groups, slug, mode)
+            finally:
+                self.generation += 1
 
     # -- read ----------------------------------------------------------------------------
 
@@ -117,6 +126,7 @@ class RegistryService:
             plan = await self.applier.plan_write(
                 principal, twin, twin.slug, twin.dt_id, parts, twin.created_ns
             )
+            self.generation += 1
             return (await self.applier.write([plan]))[0].twin
 
     # -- delete --------------------------------------------------------------------------
@@ -145,7 +155,10 @@ class RegistryService:
                         f"deleting {child.slug!r} (a descendant) needs the owner role"
                     )
                 doomed.append(child)
+            self.generation += 1
             await self.store.delete_twins(doomed)
+            for listener in self.deleted_listeners:
+                listener([t.id for t in doomed])
             return [t.slug for t in doomed]
 
     # -- relations -----------------------------------------------------------------------

@@ -22,9 +22,9 @@ log = logging.getLogger("twinlink.store")
 _MIGRATION_NAME = re.compile(r"^(\d{4})_[a-z0-9_]+\.sql$")
 
 
-def migrations() -> list[tuple[int, str, str]]:
+def migrations(folder_name: str = "migrations") -> list[tuple[int, str, str]]:
     """(version, file name, SQL) of every migration shipped in the package, in order."""
-    folder = resources.files("twinlink.store.sqlite") / "migrations"
+    folder = resources.files("twinlink.store.sqlite") / folder_name
     found = []
     for entry in folder.iterdir():
         match = _MIGRATION_NAME.match(entry.name)
@@ -33,11 +33,13 @@ def migrations() -> list[tuple[int, str, str]]:
     return sorted(found)
 
 
-def migrate(conn: sqlite3.Connection, target: int | None = None) -> list[int]:
+def migrate(
+    conn: sqlite3.Connection, target: int | None = None, folder_name: str = "migrations"
+) -> list[int]:
     """Apply pending migrations in order, each in its own transaction. Returns those applied."""
     current = conn.execute("PRAGMA user_version").fetchone()[0]
     applied = []
-    for version, name, sql in migrations():
+    for version, name, sql in migrations(folder_name):
         if version <= current or (target is not None and version > target):
             continue
         # executescript commits first, so wrap the script and the version bump ourselves.

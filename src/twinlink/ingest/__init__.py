@@ -1,0 +1,1 @@
+"""Device-facing ingest: batches from devices become durable samples on the bus."""

@@ -1,0 +1,120 @@
+"""From a device's batch to durable history and the bus, with its ack.
+
+The path of one batch: read and check it against the twin's interface (`domain.samples`),
+store it in history (group commit; a `seq` already stored is not stored twice), then publish
+it on the bus for live clients and processors, then answer the device. Live clients therefore
+only ever see samples that are durable.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from twinlink.bus import Bus, samples_subject
+from twinlink.domain.merge import merge_parts
+from twinlink.domain.samples import (
+    MAX_REPORTED_REJECTIONS,
+    ReadBatch,
+    SampleBatch,
+    Schema,
+    read_batch,
+    schema_from_interface,
+)
+from twinlink.registry.service import RegistryService
+from twinlink.store.history import HistoryWriterStore
+from twinlink.store.records import Device
+
+
+@dataclass(slots=True)
+class Ack:
+    seq: int
+    accepted: int
+    rejected: list[dict[str, Any]]
+    rejected_count: int
+    server_timed: int
+    dropped: int
+    duplicate: bool
+
+    def message(self) -> dict[str, Any]:
+        return {
+            "type": "ack",
+            "seq": self.seq,
+            "accepted": self.accepted,
+            "rejected": self.rejected,
+            "rejected_count": self.rejected_count,
+            "server_timed": self.server_timed,
+            "dropped": self.dropped,
+            "duplicate": self.duplicate,
+        }
+
+
+class IngestService:
+    def __init__(self, registry: RegistryService, history: HistoryWriterStore, bus: Bus) -> None:
+        self.registry = registry
+        self.history = history
+        self.bus = bus
+        self._schemas: dict[int, Schema] = {}
+        self._generation = -1
+        self.samples_accepted = 0
+        self.samples_rejected = 0
+        self.batches_duplicate = 0
+
+    async def schema_for(self, twin_id: int) -> Schema:
+        if self._generation != self.registry.generation:
+            self._schemas.clear()
+            self._generation = self.registry.generation
+        schema = self._schemas.get(twin_id)
+        if schema is None:
+            parts = await self.registry.store.get_parts(twin_id)
+            interface = merge_parts(parts).get("interface") if parts else None
+            schema = schema_from_interface(interface if isinstance(interface, dict) else None)
+            self._schemas[twin_id] = schema
+        return schema
+
+    async def ingest(self, device: Device, body: Any) -> Ack:
+        """Store one batch from `device`. Raises BatchError when it cannot be read at all."""
+        received_ns = time.time_ns()
+        schema = await self.schema_for(device.twin_id)
+        read = read_batch(body, schema, received_ns)
+        duplicate = False
+        if read.times:
+            batch = SampleBatch(
+                twin_id=device.twin_id,
+                twin=device.twin_slug,
+                stream=read.stream,
+                times=read.times,
+                values=read.values,
+                received_ns=received_ns,
+                source=device.name,
+                seq=read.seq,
+            )
+            duplicate = not await self.history.append(batch, device.id)
+            if not duplicate:
+                await self.bus.publish(samples_subject(device.twin_id, read.stream), batch)
+        return self._ack(read, duplicate)
+
+    async def publish(self, batch: SampleBatch) -> None:
+        """Store and publish samples made inside the platform (processors, simulators)."""
+        await self.history.append(batch)
+        await self.bus.publish(samples_subject(batch.twin_id, batch.stream), batch)
+
+    def _ack(self, read: ReadBatch, duplicate: bool) -> Ack:
+        if duplicate:
+            self.batches_duplicate += 1
+        else:
+            self.samples_accepted += len(read.times)
+        self.samples_rejected += len(read.rejected)
+        return Ack(
+            seq=read.seq,
+            accepted=0 if duplicate else len(read.times),
+            rejected=[
+                {"index": r.index, "reason": r.reason}
+                for r in read.rejected[:MAX_REPORTED_REJECTIONS]
+            ],
+            rejected_count=len(read.rejected),
+            server_timed=read.server_timed,
+            dropped=read.dropped,
+            duplicate=duplicate,
+        )

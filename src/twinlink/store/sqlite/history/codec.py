@@ -1,0 +1,108 @@
+"""Column-wise blocks: one signal's samples from one batch, packed for storage.
+
+A block keeps its times sorted (stable, so equal times keep arrival order) and carries a
+summary (count, min, max, sum, first, last) so aggregations can use whole blocks unread.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import orjson
+
+from twinlink.domain.samples import Value
+
+TIME_DTYPE = np.dtype("<i8")
+_DTYPES: dict[str, np.dtype[Any]] = {
+    "i": np.dtype("<i8"),
+    "f": np.dtype("<f8"),
+    "b": np.dtype("u1"),
+}
+
+
+@dataclass(slots=True)
+class Block:
+    signal: str
+    t0: int
+    t1: int
+    n: int
+    kind: str
+    vmin: float | None
+    vmax: float | None
+    vsum: float | None
+    first_v: Value
+    last_v: Value
+    times: bytes
+    vals: bytes
+
+
+def split_signals(
+    times: list[int], values: list[dict[str, Value]]
+) -> dict[str, tuple[list[int], list[Value]]]:
+    """Turn row-wise samples into one (times, values) column pair per signal."""
+    columns: dict[str, tuple[list[int], list[Value]]] = {}
+    for time_ns, row in zip(times, values, strict=True):
+        for name, value in row.items():
+            column = columns.get(name)
+            if column is None:
+                column = columns[name] = ([], [])
+            column[0].append(time_ns)
+            column[1].append(value)
+    return columns
+
+
+def kind_of(values: list[Value]) -> str:
+    kinds = {type(v) for v in values}
+    if kinds == {int}:
+        return "i"
+    if kinds == {bool}:
+        return "b"
+    if kinds <= {int, float}:
+        return "f"
+    return "j"
+
+
+def encode(signal: str, times: list[int], values: list[Value]) -> Block:
+    kind = kind_of(values)
+    t = np.asarray(times, dtype=TIME_DTYPE)
+    order = None
+    if t.size > 1 and bool(np.any(t[1:] < t[:-1])):
+        order = np.argsort(t, kind="stable")
+        t = t[order]
+        values = [values[i] for i in order]
+    if kind == "j":
+        blob = orjson.dumps(values)
+        vmin = vmax = vsum = None
+    else:
+        v = np.asarray(values, dtype=_DTYPES[kind])
+        blob = v.tobytes()
+        vmin, vmax, vsum = float(v.min()), float(v.max()), float(v.sum(dtype=np.float64))
+    return Block(
+        signal=signal,
+        t0=int(t[0]),
+        t1=int(t[-1]),
+        n=int(t.size),
+        kind=kind,
+        vmin=vmin,
+        vmax=vmax,
+        vsum=vsum,
+        first_v=values[0],
+        last_v=values[-1],
+        times=t.tobytes(),
+        vals=blob,
+    )
+
+
+def decode_times(blob: bytes) -> npt.NDArray[np.int64]:
+    return np.frombuffer(blob, dtype=TIME_DTYPE)
+
+
+def decode_values(kind: str, blob: bytes) -> npt.NDArray[Any]:
+    """Numeric kinds as numpy arrays (bool as bool); JSON blocks as an object array."""
+    if kind == "j":
+        return np.asarray(orjson.loads(blob), dtype=object)
+    array: npt.NDArray[Any] = np.frombuffer(blob, dtype=_DTYPES[kind])
+    return array.astype(bool) if kind == "b" else array
