@@ -170,3 +170,7 @@ main.add_command(devices)
 main.add_command(twins)
 main.add_command(users)
 main.add_command(tokens)
+
+from twinlink.cli_simulate import simulate  # noqa: E402
+
+main.add_command(simulate)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -58,6 +58,43 @@ def up(host: str | None, port: int | None, data_dir: Path | None, config_file: s
 
 def example_files(folder: Path) -> list[Path]:
     return sorted(p for p in folder.rglob("*") if p.suffix in (".yaml", ".yml") and p.is_file())
+
+
+async def start_demo_simulator(
+    services: Services, base_url: str
+) -> Callable[[], Awaitable[None]] | None:
+    """Give the Tingen twin a device `tingenSAP` (a fresh token each start) and run the
+    simulated rig against this server; returns the function that stops it."""
+    import asyncio
+
+    from twinlink.auth.rights import Principal
+    from twinlink.domain.errors import ConflictError, NotFoundError
+    from twinlink.simulate.runner import run_tingen
+
+    admin = await services.store.get_user_by_name("admin")
+    if admin is None:
+        return None
+    principal = Principal(user=admin)
+    try:
+        try:
+            _, token = await services.devices.create(
+                principal, "tingen", "tingenSAP", "the simulated cantilever rig (make demo)"
+            )
+        except ConflictError:
+            _, token = await services.devices.rotate(principal, "tingen", "tingenSAP")
+    except NotFoundError:
+        return None
+    stop = asyncio.Event()
+    task = asyncio.create_task(run_tingen(base_url, token, stop), name="demo-simulator")
+
+    async def stop_simulator() -> None:
+        stop.set()
+        try:
+            await asyncio.wait_for(task, 3)
+        except Exception:  # the server is going down; the rig's last batches may be lost
+            task.cancel()
+
+    return stop_simulator
 
 
 async def load_examples(services: Services, folder: Path) -> list[str]:
@@ -117,14 +154,18 @@ def demo(
                 f"token: {created.token or '(preset)'}\n"
             )
 
-    async def ready(services: Services) -> None:
+    async def ready(services: Services) -> Callable[[], Awaitable[None]] | None:
         loaded = await load_examples(services, examples)
+        stop_simulator = await start_demo_simulator(services, settings.base_url)
+        live = "  Tingen streams live from a simulated rig (device tingenSAP).\n"
         click.echo(
             f"\n  Demo twins: {', '.join(loaded) or 'none found in ' + str(examples)}\n"
+            f"{live if stop_simulator else ''}"
             f"  Open {settings.base_url}/ (twins) and {settings.base_url}/docs (API).\n"
             f"  Sign in as admin; the password and token are in {secrets_file}.\n"
             f"  CLI: twinlink --url {settings.base_url} login -u admin\n",
             err=True,
         )
+        return stop_simulator
 
     serve(settings, on_ready=ready, on_bootstrap=bootstrap)

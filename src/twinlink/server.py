@@ -52,13 +52,15 @@ def serve(
     if settings.port == 0:
         settings.port = sock.getsockname()[1]
 
-    async def ready(services: Services) -> None:
+    async def ready(services: Services) -> object:
+        result = None
         if on_ready is not None:
             result = on_ready(services)
             if hasattr(result, "__await__"):
-                await result
+                result = await result
         # Scripts and tests wait for this line; keep its wording stable.
         print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
+        return result  # a cleanup coroutine function, if on_ready gave one
 
     app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
     config = uvicorn.Config(
