@@ -49,10 +49,17 @@ class Server:
         return "".join(self.output)
 
 
-def start_server(data_dir: Path, extra_env: dict[str, str] | None = None) -> Server:
-    port = free_port()
-    token = "tl_test_" + secrets.token_urlsafe(24)
-    password = secrets.token_urlsafe(12)
+def start_server(
+    data_dir: Path,
+    extra_env: dict[str, str] | None = None,
+    *,
+    port: int | None = None,
+    token: str | None = None,
+    password: str | None = None,
+) -> Server:
+    port = port or free_port()
+    token = token or "tl_test_" + secrets.token_urlsafe(24)
+    password = password or secrets.token_urlsafe(12)
     env = {
         **os.environ,
         "TWINLINK_ADMIN_TOKEN": token,
@@ -87,6 +94,18 @@ def start_server(data_dir: Path, extra_env: dict[str, str] | None = None) -> Ser
     with httpx.Client() as c:
         assert c.get(f"{server.url}/healthz").status_code == 200
     return server
+
+
+def restart_server(server: Server, extra_env: dict[str, str] | None = None) -> Server:
+    """Start the server again on the same port and data dir (after a stop or a kill)."""
+    port = int(server.url.rsplit(":", 1)[1])
+    return start_server(
+        server.data_dir,
+        extra_env,
+        port=port,
+        token=server.admin_token,
+        password=server.admin_password,
+    )
 
 
 def stop_server(server: Server) -> None:

@@ -29,7 +29,8 @@ class MemoryBus:
         for handler in self._exact.get(subject, ()):
             _call(handler, subject, message)
         if self._prefix:
-            for prefix, handlers in self._prefix.items():
+            # A snapshot: a handler may (un)subscribe a prefix while we iterate.
+            for prefix, handlers in list(self._prefix.items()):
                 if subject.startswith(prefix):
                     for handler in handlers:
                         _call(handler, subject, message)

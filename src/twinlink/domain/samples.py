@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
-from datetime import datetime
+from datetime import UTC, datetime, timedelta
 from typing import Any, Literal
 
 from twinlink.domain.errors import InvalidInputError
@@ -22,6 +22,7 @@ STREAM_NAME = re.compile(r"^[a-z][a-z0-9_-]{0,63}$")
 MAX_SAMPLES = 100_000
 MAX_STRING = 1024
 MAX_REPORTED_REJECTIONS = 100
+_EPOCH = datetime(1970, 1, 1, tzinfo=UTC)
 _SEQ_LIMIT = 1 << 63
 _INT_LIMIT = 1 << 63
 _UNIT_NS = {"ns": 1, "us": 1_000, "ms": 1_000_000, "s": 1_000_000_000}
@@ -173,7 +174,8 @@ def _read_time(raw: Any, scale: int) -> int | None:
             raise ValueError(f"`time` {raw!r} is not an ISO 8601 time") from None
         if parsed.tzinfo is None:
             raise ValueError(f"`time` {raw!r} has no time zone (add Z for UTC)")
-        time_ns = round(parsed.timestamp() * 1_000_000) * 1000
+        # Integer arithmetic: a float timestamp loses microseconds after 2106.
+        time_ns = (parsed - _EPOCH) // timedelta(microseconds=1) * 1000
     else:
         raise ValueError("`time` must be an integer, a number or an ISO 8601 string")
     if not _EARLIEST_NS <= time_ns <= _LATEST_NS:

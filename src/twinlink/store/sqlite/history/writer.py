@@ -61,6 +61,7 @@ class HistoryWriter:
         self._pending: list[_Append | _Write] = []
         self._wake = asyncio.Event()
         self._task: asyncio.Task[None] | None = None
+        self._closing = False
         self.commits = 0
 
     async def open(self) -> None:
@@ -77,11 +78,14 @@ class HistoryWriter:
             self._series[(twin_id, stream, signal)] = (sid, span)
 
     async def close(self) -> None:
+        # Let the running round finish and its callers get their answers, then store
+        # whatever was accepted before close; never cancel a round half way.
+        self._closing = True
+        self._wake.set()
         if self._task is not None:
-            self._task.cancel()
             await asyncio.gather(self._task, return_exceptions=True)
             self._task = None
-        if self._pending:  # whatever was accepted before close still lands
+        if self._pending:
             await self._commit_round()
         loop = asyncio.get_running_loop()
         await loop.run_in_executor(self._executor, self._close)
@@ -108,7 +112,7 @@ class HistoryWriter:
         return await future
 
     async def _run(self) -> None:
-        while True:
+        while not self._closing or self._pending:
             await self._wake.wait()
             self._wake.clear()
             await self._commit_round()
@@ -150,9 +154,19 @@ class HistoryWriter:
                     except Exception as err:
                         conn.execute("ROLLBACK TO item")
                         conn.execute("RELEASE item")
+                        self._reload_series(conn)
                         results.append(err)
                     continue
-                results.append(self._store(conn, item, latest))
+                # A savepoint per batch: one that cannot be stored fails alone.
+                conn.execute("SAVEPOINT item")
+                try:
+                    results.append(self._store(conn, item, latest))
+                    conn.execute("RELEASE item")
+                except Exception as err:
+                    conn.execute("ROLLBACK TO item")
+                    conn.execute("RELEASE item")
+                    self._reload_series(conn)
+                    results.append(err)
             self._write_latest(conn, latest)
             conn.execute("COMMIT")
         except BaseException:
@@ -174,6 +188,7 @@ class HistoryWriter:
             if cursor.rowcount == 0:
                 return False
         rows = []
+        ends: list[tuple[int, int, Value]] = []
         for signal, (times, values) in split_signals(batch.times, batch.values).items():
             block = encode(signal, times, values)
             series_id = self._series_id(conn, batch.twin_id, batch.stream, signal, block)
@@ -182,10 +197,12 @@ class HistoryWriter:
                  block.vsum, _sql_value(block.first_v), _sql_value(block.last_v), block.times,
                  block.vals)
             )  # fmt: skip
-            known = latest.get(series_id)
-            if known is None or block.t1 >= known[0]:
-                latest[series_id] = (block.t1, block.last_v)
+            ends.append((series_id, block.t1, block.last_v))
         conn.executemany("INSERT INTO blocks VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        for series_id, t1, last in ends:
+            known = latest.get(series_id)
+            if known is None or t1 >= known[0]:
+                latest[series_id] = (t1, last)
         return True
 
     def _series_id(

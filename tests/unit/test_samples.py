@@ -1,0 +1,573 @@
+"""Reading a sample batch from the wire: batch rules, times, values and interface checks."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from twinlink.domain.errors import InvalidInputError
+from twinlink.domain.samples import (
+    MAX_SAMPLES,
+    MAX_STRING,
+    OPEN_SCHEMA,
+    BatchError,
+    ReadBatch,
+    Schema,
+    SignalRule,
+    read_batch,
+    schema_from_interface,
+)
+
+NOW = 1_700_000_000_000_000_000  # 2023-11-14T22:13:20Z in ns
+T2024 = 1_704_067_200  # 2024-01-01T00:00:00Z in s
+EARLIEST_NS = 631_152_000 * 10**9  # 1990-01-01T00:00:00Z
+LATEST_NS = 7_258_118_400 * 10**9  # 2200-01-01T00:00:00Z
+TINGEN = Path(__file__).resolve().parents[2] / "examples" / "tingen" / "tingen.yaml"
+
+
+def read(samples: list[Any], schema: Schema = OPEN_SCHEMA, **batch: Any) -> ReadBatch:
+    return read_batch({"seq": 1, "samples": samples, **batch}, schema, NOW)
+
+
+def one(sample: dict[str, Any], schema: Schema = OPEN_SCHEMA, **batch: Any) -> ReadBatch:
+    return read([sample], schema, **batch)
+
+
+def reason(sample: dict[str, Any], schema: Schema = OPEN_SCHEMA, **batch: Any) -> str:
+    """The reason the only sample of a batch was rejected (fails if it was kept)."""
+    out = one(sample, schema, **batch)
+    assert out.times == []
+    assert len(out.rejected) == 1
+    assert out.rejected[0].index == 0
+    return out.rejected[0].reason
+
+
+def schema(unknown: str = "accept", out_of_range: str = "reject", **rules: SignalRule) -> Schema:
+    return Schema(rules, unknown, out_of_range)  # type: ignore[arg-type]
+
+
+def num(lo: float | None = None, hi: float | None = None) -> SignalRule:
+    return SignalRule("number", lo, hi)
+
+
+# --- the batch as a whole ---------------------------------------------------------------------
+
+
+def test_a_plain_batch_is_read_in_order() -> None:
+    out = read(
+        [
+            {"time": T2024 * 10**9, "values": {"a": 1, "b": 2.5}},
+            {"time": T2024 * 10**9 + 1, "values": {"c": True, "d": "on"}},
+        ],
+        seq=42,
+    )
+    assert out.seq == 42
+    assert out.stream == "telemetry"
+    assert out.times == [T2024 * 10**9, T2024 * 10**9 + 1]
+    assert out.values == [{"a": 1, "b": 2.5}, {"c": True, "d": "on"}]
+    assert out.rejected == []
+    assert (out.server_timed, out.dropped) == (0, 0)
+
+
+def test_an_empty_sample_list_is_a_valid_batch() -> None:
+    out = read([])
+    assert out.times == [] and out.rejected == []
+
+
+@pytest.mark.parametrize("body", [None, [], "batch", 7])
+def test_a_batch_must_be_an_object(body: Any) -> None:
+    with pytest.raises(BatchError, match="a batch is a JSON object with `seq` and `samples`"):
+        read_batch(body, OPEN_SCHEMA, NOW)
+
+
+@pytest.mark.parametrize("seq", [0, 1, 2**63 - 1])
+def test_seq_accepts_0_to_2_63_minus_1(seq: int) -> None:
+    assert read([], seq=seq).seq == seq
+
+
+@pytest.mark.parametrize("seq", [-1, 2**63, True, False, 1.0, "1", None])
+def test_seq_outside_the_range_or_not_an_integer_is_refused(seq: Any) -> None:
+    with pytest.raises(BatchError, match=r"`seq` must be an integer from 0 to 2\^63-1"):
+        read([], seq=seq)
+
+
+def test_a_batch_without_seq_is_refused() -> None:
+    with pytest.raises(BatchError, match="`seq`"):
+        read_batch({"samples": []}, OPEN_SCHEMA, NOW)
+
+
+def test_batch_error_is_an_invalid_input_error() -> None:
+    assert issubclass(BatchError, InvalidInputError)
+    assert issubclass(BatchError, ValueError)
+
+
+@pytest.mark.parametrize("stream", ["telemetry", "a", "imu-2_raw", "x" * 64, "a0"])
+def test_valid_stream_names(stream: str) -> None:
+    assert read([], stream=stream).stream == stream
+
+
+@pytest.mark.parametrize("stream", ["", "Telemetry", "1abc", "_a", "-a", "a.b", "a b", "x" * 65, 5])
+def test_invalid_stream_names_are_refused(stream: Any) -> None:
+    with pytest.raises(BatchError, match=r"`stream` must match \^\[a-z\]"):
+        read([], stream=stream)
+
+
+@pytest.mark.parametrize("unit", ["sec", "S", "", None, 1])
+def test_an_unknown_time_unit_is_refused(unit: Any) -> None:
+    with pytest.raises(BatchError, match="`time_unit` must be one of ns, us, ms, s"):
+        read([], time_unit=unit)
+
+
+@pytest.mark.parametrize("samples", [None, {}, "[]", 3])
+def test_samples_must_be_a_list(samples: Any) -> None:
+    with pytest.raises(BatchError, match="`samples` must be a list"):
+        read_batch({"seq": 1, "samples": samples}, OPEN_SCHEMA, NOW)
+
+
+def test_a_batch_without_samples_is_refused() -> None:
+    with pytest.raises(BatchError, match="`samples` must be a list"):
+        read_batch({"seq": 1}, OPEN_SCHEMA, NOW)
+
+
+def test_too_many_samples_refuse_the_batch_and_say_how_many() -> None:
+    sample = {"values": {"a": 1}}
+    assert len(read([sample] * MAX_SAMPLES).times) == MAX_SAMPLES
+    with pytest.raises(BatchError) as err:
+        read([sample] * (MAX_SAMPLES + 1))
+    assert str(err.value) == f"a batch holds at most {MAX_SAMPLES} samples, this one 100001"
+
+
+# --- times ------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("unit", "time"),
+    [
+        ("ns", T2024 * 10**9),
+        ("us", T2024 * 10**6),
+        ("ms", T2024 * 10**3),
+        ("s", T2024),
+    ],
+)
+def test_integer_times_are_scaled_to_ns(unit: str, time: int) -> None:
+    out = one({"time": time, "values": {"a": 1}}, time_unit=unit)
+    assert out.times == [T2024 * 10**9]
+
+
+def test_the_default_time_unit_is_ns() -> None:
+    assert one({"time": T2024 * 10**9, "values": {"a": 1}}).times == [T2024 * 10**9]
+
+
+def test_fractional_times_are_converted_to_integer_ns() -> None:
+    # a float near 1.7e18 ns has a resolution of 256 ns, so compare to within 1 us
+    out = one({"time": T2024 + 0.25, "values": {"a": 1}}, time_unit="s")
+    assert type(out.times[0]) is int
+    assert out.times[0] == pytest.approx(T2024 * 10**9 + 250_000_000, abs=1_000)
+    out = one({"time": T2024 * 1000 + 0.5, "values": {"a": 1}}, time_unit="ms")
+    assert out.times[0] == pytest.approx(T2024 * 10**9 + 500_000, abs=1_000)
+    out = one({"time": float(T2024 * 10**9), "values": {"a": 1}})
+    assert out.times == [T2024 * 10**9]
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("2024-01-01T00:00:00Z", T2024 * 10**9),
+        ("2024-01-01T00:00:00+00:00", T2024 * 10**9),
+        ("2024-01-01T01:00:00+01:00", T2024 * 10**9),
+        ("2023-12-31T19:30:00-04:30", T2024 * 10**9),
+        ("2024-01-01T00:00:00.123456Z", T2024 * 10**9 + 123_456_000),
+        ("2024-01-01T00:00:00.5Z", T2024 * 10**9 + 500_000_000),
+        ("2024-01-01 00:00:00.000001Z", T2024 * 10**9 + 1_000),
+    ],
+)
+def test_iso_times_with_a_zone(text: str, expected: int) -> None:
+    out = one({"time": text, "values": {"a": 1}})
+    assert out.times == [expected]
+    assert out.server_timed == 0
+
+
+def test_iso_times_ignore_the_time_unit() -> None:
+    out = one({"time": "2024-01-01T00:00:00Z", "values": {"a": 1}}, time_unit="s")
+    assert out.times == [T2024 * 10**9]
+
+
+def test_iso_times_keep_exact_microseconds_up_to_2200() -> None:
+    out = one({"time": "2108-10-15T17:26:28.508021Z", "values": {"a": 1}})
+    assert out.times == [4_379_765_188_508_021_000]
+
+
+@pytest.mark.parametrize("text", ["2024-01-01T00:00:00", "2024-01-01", "2024-01-01T00:00:00.5"])
+def test_iso_times_without_a_zone_are_rejected(text: str) -> None:
+    assert reason({"time": text, "values": {"a": 1}}) == (
+        f"`time` {text!r} has no time zone (add Z for UTC)"
+    )
+
+
+@pytest.mark.parametrize("text", ["garbage", "", "yesterday", "2024-13-01T00:00:00Z"])
+def test_unreadable_time_strings_are_rejected(text: str) -> None:
+    assert reason({"time": text, "values": {"a": 1}}) == f"`time` {text!r} is not an ISO 8601 time"
+
+
+@pytest.mark.parametrize("raw", [True, [1], {"t": 1}, float("nan"), float("inf")])
+def test_times_of_other_types_are_rejected(raw: Any) -> None:
+    assert reason({"time": raw, "values": {"a": 1}}) == (
+        "`time` must be an integer, a number or an ISO 8601 string"
+    )
+
+
+@pytest.mark.parametrize("sample", [{"values": {"a": 1}}, {"time": None, "values": {"a": 1}}])
+def test_a_missing_time_takes_the_server_clock(sample: dict[str, Any]) -> None:
+    out = one(sample)
+    assert out.times == [NOW]
+    assert out.server_timed == 1
+
+
+def test_server_timed_counts_only_samples_without_time() -> None:
+    out = read(
+        [
+            {"values": {"a": 1}},
+            {"time": T2024 * 10**9, "values": {"a": 2}},
+            {"values": {"a": 3}},
+            {"values": {}},  # rejected: not counted
+        ]
+    )
+    assert out.times == [NOW, T2024 * 10**9, NOW]
+    assert out.server_timed == 2
+
+
+@pytest.mark.parametrize(
+    ("time", "unit", "expected"),
+    [
+        (EARLIEST_NS, "ns", EARLIEST_NS),
+        (LATEST_NS, "ns", LATEST_NS),
+        (631_152_000, "s", EARLIEST_NS),
+        (7_258_118_400_000, "ms", LATEST_NS),
+        ("1990-01-01T00:00:00Z", "ns", EARLIEST_NS),
+        ("2200-01-01T00:00:00Z", "ns", LATEST_NS),
+    ],
+)
+def test_times_at_the_ends_of_1990_to_2200_are_kept(time: Any, unit: str, expected: int) -> None:
+    assert one({"time": time, "values": {"a": 1}}, time_unit=unit).times == [expected]
+
+
+@pytest.mark.parametrize(
+    ("time", "unit"),
+    [
+        (EARLIEST_NS - 1, "ns"),
+        (LATEST_NS + 1, "ns"),
+        (T2024, "ns"),  # seconds sent as ns: 1970
+        (T2024 * 1000, "s"),  # ms sent as s: far future
+        (0, "ns"),
+        (-1, "s"),
+        ("1989-12-31T23:59:59Z", "ns"),
+        ("2200-01-01T00:00:01Z", "ns"),
+    ],
+)
+def test_times_outside_1990_to_2200_are_rejected_with_a_unit_hint(time: Any, unit: str) -> None:
+    assert reason({"time": time, "values": {"a": 1}}, time_unit=unit) == (
+        f"`time` {time!r} is outside 1990..2200 (is `time_unit` right?)"
+    )
+
+
+# --- per-sample rejection ---------------------------------------------------------------------
+
+
+def test_bad_samples_are_rejected_with_index_and_reason_and_the_rest_kept() -> None:
+    out = read(
+        [
+            {"time": T2024, "values": {"a": 1}},
+            "not a sample",
+            {"time": T2024 + 1, "values": {"a": float("nan")}},
+            {"time": T2024 + 2, "values": {"a": 3}},
+            {"time": "noon", "values": {"a": 4}},
+            {"values": {"b": 5}},
+        ],
+        time_unit="s",
+    )
+    assert out.times == [T2024 * 10**9, (T2024 + 2) * 10**9, NOW]
+    assert out.values == [{"a": 1}, {"a": 3}, {"b": 5}]
+    assert [(r.index, r.reason) for r in out.rejected] == [
+        (1, "a sample is an object with `values` and an optional `time`"),
+        (2, "a: nan is not a finite number"),
+        (4, "`time` 'noon' is not an ISO 8601 time"),
+    ]
+    assert out.server_timed == 1
+
+
+def test_every_rejection_is_listed() -> None:
+    out = read([{"values": {}}] * 250)
+    assert [r.index for r in out.rejected] == list(range(250))
+
+
+@pytest.mark.parametrize("sample", [None, 1, "x", [{"values": {"a": 1}}]])
+def test_a_sample_must_be_an_object(sample: Any) -> None:
+    out = read([sample])
+    assert out.rejected[0].reason == "a sample is an object with `values` and an optional `time`"
+
+
+@pytest.mark.parametrize("sample", [{}, {"values": {}}, {"values": [1]}, {"values": None}])
+def test_a_sample_needs_at_least_one_value(sample: dict[str, Any]) -> None:
+    assert reason(sample) == "`values` must be an object with at least one signal"
+
+
+def test_values_are_checked_before_time() -> None:
+    assert reason({"time": "noon"}) == "`values` must be an object with at least one signal"
+
+
+# --- values -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "name", ["a", "A", "_", "Tip_Angular_Rate_Y_radps", "imu.acc:x-1", "a" * 128]
+)
+def test_valid_signal_names(name: str) -> None:
+    assert one({"values": {name: 1}}).values == [{name: 1}]
+
+
+@pytest.mark.parametrize("name", ["", "1a", ".a", "-a", "a b", "a/b", "ä", "a" * 129])
+def test_invalid_signal_names_are_rejected(name: str) -> None:
+    assert reason({"values": {name: 1}}).startswith(f"signal name {name!r} must match ^[A-Za-z_]")
+
+
+@pytest.mark.parametrize(
+    "value",
+    [0, -1, 2**63 - 1, -(2**63), 1.5, -0.0, 1e308, True, False, "", "x" * MAX_STRING],
+)
+def test_numbers_bools_and_strings_are_kept_as_sent(value: Any) -> None:
+    out = one({"values": {"v": value}})
+    assert out.values == [{"v": value}]
+    assert type(out.values[0]["v"]) is type(value)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (None, "v: None is not a number, bool or string"),
+        ([1, 2], "v: [1, 2] is not a number, bool or string"),
+        ({"x": 1}, "v: {'x': 1} is not a number, bool or string"),
+        (float("nan"), "v: nan is not a finite number"),
+        (float("inf"), "v: inf is not a finite number"),
+        (float("-inf"), "v: -inf is not a finite number"),
+        (2**63, f"v: {2**63} does not fit in 64 bits"),
+        (-(2**63) - 1, f"v: {-(2**63) - 1} does not fit in 64 bits"),
+        (10**30, f"v: {10**30} does not fit in 64 bits"),
+        ("x" * (MAX_STRING + 1), "v: a string value holds at most 1024 characters"),
+    ],
+)
+def test_values_that_cannot_be_stored_are_rejected(value: Any, message: str) -> None:
+    assert reason({"values": {"v": value}}) == message
+
+
+def test_long_values_are_shortened_in_the_message() -> None:
+    message = reason({"values": {"v": list(range(100))}})
+    shown = message.removeprefix("v: ").removesuffix(" is not a number, bool or string")
+    assert len(shown) == 40
+    assert shown == repr(list(range(100)))[:37] + "..."
+
+
+def test_one_bad_value_rejects_the_whole_sample() -> None:
+    out = one({"values": {"good": 1, "bad": None}})
+    assert out.values == []
+    assert out.rejected[0].reason == "bad: None is not a number, bool or string"
+
+
+# --- interface checks -------------------------------------------------------------------------
+
+
+def test_number_accepts_ints_and_floats_but_not_bools_or_strings() -> None:
+    rules = schema(x=num())
+    assert one({"values": {"x": 1}}, rules).values == [{"x": 1}]
+    assert one({"values": {"x": 1.5}}, rules).values == [{"x": 1.5}]
+    assert reason({"values": {"x": True}}, rules) == "x: True is not a number"
+    assert reason({"values": {"x": False}}, rules) == "x: False is not a number"
+    assert reason({"values": {"x": "1"}}, rules) == "x: '1' is not a number"
+
+
+def test_integer_accepts_only_ints() -> None:
+    rules = schema(n=SignalRule("integer", None, None))
+    assert one({"values": {"n": 3}}, rules).values == [{"n": 3}]
+    assert reason({"values": {"n": 3.0}}, rules) == "n: 3.0 is not an integer"
+    assert reason({"values": {"n": True}}, rules) == "n: True is not an integer"
+    assert reason({"values": {"n": "3"}}, rules) == "n: '3' is not an integer"
+
+
+def test_bool_and_string_types() -> None:
+    rules = schema(on=SignalRule("bool", None, None), id=SignalRule("string", None, None))
+    assert one({"values": {"on": False, "id": "x"}}, rules).values == [{"on": False, "id": "x"}]
+    assert reason({"values": {"on": 1}}, rules) == "on: 1 is not a bool"
+    assert reason({"values": {"on": "true"}}, rules) == "on: 'true' is not a bool"
+    assert reason({"values": {"id": 1}}, rules) == "id: 1 is not a string"
+    assert reason({"values": {"id": False}}, rules) == "id: False is not a string"
+
+
+def test_min_and_max_are_inclusive_and_out_of_range_is_rejected_by_default() -> None:
+    rules = schema(x=num(0.0, 1.0), n=SignalRule("integer", -5, 5))
+    assert one({"values": {"x": 0.0, "n": -5}}, rules).rejected == []
+    assert one({"values": {"x": 1.0, "n": 5}}, rules).rejected == []
+    assert reason({"values": {"x": -0.001}}, rules) == "x: -0.001 is below the minimum 0.0"
+    assert reason({"values": {"x": 1.5}}, rules) == "x: 1.5 is above the maximum 1.0"
+    assert reason({"values": {"n": 6}}, rules) == "n: 6 is above the maximum 5"
+    assert reason({"values": {"n": -6}}, rules) == "n: -6 is below the minimum -5"
+
+
+def test_only_one_bound_may_be_given() -> None:
+    low = schema(x=num(lo=0))
+    assert one({"values": {"x": 1e300}}, low).rejected == []
+    assert reason({"values": {"x": -1}}, low) == "x: -1 is below the minimum 0"
+    high = schema(x=num(hi=0))
+    assert one({"values": {"x": -1e300}}, high).rejected == []
+    assert reason({"values": {"x": 1}}, high) == "x: 1 is above the maximum 0"
+
+
+def test_out_of_range_accept_keeps_the_value_but_still_checks_the_type() -> None:
+    rules = schema(out_of_range="accept", x=num(0, 1))
+    out = read([{"values": {"x": 99}}, {"values": {"x": -99.5}}], rules)
+    assert out.values == [{"x": 99}, {"x": -99.5}]
+    assert out.rejected == []
+    assert reason({"values": {"x": True}}, rules) == "x: True is not a number"
+
+
+def test_a_range_on_a_bool_signal_does_not_apply() -> None:
+    rules = schema(on=SignalRule("bool", 2, 3))
+    assert one({"values": {"on": True}}, rules).values == [{"on": True}]
+
+
+def test_unknown_signals_are_accepted_by_default() -> None:
+    rules = schema(x=num(0, 1))
+    out = one({"values": {"x": 0.5, "extra": "anything"}}, rules)
+    assert out.values == [{"x": 0.5, "extra": "anything"}]
+    assert out.dropped == 0
+    # an accepted unknown signal alone is enough to keep the sample
+    assert one({"values": {"extra": 1}}, rules).values == [{"extra": 1}]
+
+
+def test_unknown_signals_still_need_a_storable_value() -> None:
+    rules = schema(x=num(0, 1))
+    assert reason({"values": {"x": 0.5, "extra": None}}, rules) == (
+        "extra: None is not a number, bool or string"
+    )
+
+
+def test_unknown_signals_dropped_are_counted() -> None:
+    rules = schema("drop", x=num(0, 1))
+    out = read(
+        [
+            {"values": {"x": 0.1, "y": 1, "z": 2}},
+            {"values": {"x": 0.2}},
+            {"values": {"w": 3, "x": 0.3}},
+        ],
+        rules,
+    )
+    assert out.values == [{"x": 0.1}, {"x": 0.2}, {"x": 0.3}]
+    assert out.dropped == 3
+    assert out.rejected == []
+
+
+def test_a_sample_left_with_no_known_signal_is_rejected() -> None:
+    rules = schema("drop", x=num(0, 1))
+    out = read([{"values": {"y": 1}}, {"values": {"x": 0.5}}], rules)
+    assert out.values == [{"x": 0.5}]
+    assert [(r.index, r.reason) for r in out.rejected] == [
+        (0, "no signal of this twin's interface is in `values`")
+    ]
+
+
+def test_drops_of_a_rejected_sample_are_not_counted() -> None:
+    rules = schema("drop", x=num(0, 1))
+    out = one({"values": {"y": 1, "x": 5}}, rules)
+    assert out.rejected[0].reason == "x: 5 is above the maximum 1"
+    assert out.dropped == 0
+
+
+def test_unknown_signals_rejected_reject_the_sample() -> None:
+    rules = schema("reject", x=num(0, 1))
+    out = read([{"values": {"x": 0.1, "y": 1}}, {"values": {"x": 0.2}}], rules)
+    assert out.values == [{"x": 0.2}]
+    assert [(r.index, r.reason) for r in out.rejected] == [
+        (0, "y: not a signal of this twin's interface")
+    ]
+
+
+def test_an_empty_interface_that_rejects_unknown_signals_accepts_nothing() -> None:
+    rules = schema("reject")
+    assert not rules.is_open
+    assert reason({"values": {"a": 1}}, rules) == "a: not a signal of this twin's interface"
+    assert reason({"values": {"a": 1}}, schema("drop")) == (
+        "no signal of this twin's interface is in `values`"
+    )
+
+
+def test_the_open_schema_accepts_any_valid_signal() -> None:
+    assert OPEN_SCHEMA.is_open
+    assert not schema(x=num()).is_open
+    assert schema().is_open
+
+
+# --- schema from a DT document's interface ----------------------------------------------------
+
+
+@pytest.mark.parametrize("interface", [None, {}])
+def test_no_interface_means_the_open_schema(interface: Any) -> None:
+    assert schema_from_interface(interface) is OPEN_SCHEMA
+
+
+def test_schema_from_the_tingen_interface() -> None:
+    interface = yaml.safe_load(TINGEN.read_text(encoding="utf-8"))["interface"]
+    rules = schema_from_interface(interface)
+    assert rules.signals == {
+        "Cantilever_Angle_radians": SignalRule("number", 0.0, 1.0),
+        "Input_F_in": SignalRule("number", 0.0, 10.0),
+        "Tip_Acceleration_X_mps2": SignalRule("number", -19.62, 19.62),
+        "Tip_Angular_Rate_Y_radps": SignalRule("number", -4.2761, 4.2761),
+    }
+    # properties and commands are not signals
+    assert "sample_rate" not in rules.signals
+    assert (rules.unknown_signals, rules.out_of_range) == ("accept", "reject")
+    assert not rules.is_open
+    out = read(
+        [
+            {"values": {"Cantilever_Angle_radians": 0.8, "Input_F_in": 7.8}},
+            {"values": {"Cantilever_Angle_radians": 1.2}},
+            {"values": {"Tip_Acceleration_X_mps2": -20.0}},
+            {"values": {"Input_F_in": "7.8"}},
+        ],
+        rules,
+    )
+    assert out.values == [{"Cantilever_Angle_radians": 0.8, "Input_F_in": 7.8}]
+    assert [r.reason for r in out.rejected] == [
+        "Cantilever_Angle_radians: 1.2 is above the maximum 1.0",
+        "Tip_Acceleration_X_mps2: -20.0 is below the minimum -19.62",
+        "Input_F_in: '7.8' is not a number",
+    ]
+
+
+def test_schema_defaults_and_policies_from_the_interface() -> None:
+    rules = schema_from_interface(
+        {
+            "signals": [
+                {"name": "plain"},
+                {"name": "count", "type": "integer", "min": 0},
+                "not a signal",
+                {"type": "number"},
+                {"name": 5},
+            ],
+            "unknown_signals": "drop",
+            "out_of_range": "accept",
+        }
+    )
+    assert rules.signals == {
+        "plain": SignalRule("number", None, None),
+        "count": SignalRule("integer", 0, None),
+    }
+    assert (rules.unknown_signals, rules.out_of_range) == ("drop", "accept")
+
+
+def test_an_interface_without_signals_keeps_its_policy() -> None:
+    rules = schema_from_interface({"signals": None, "unknown_signals": "reject"})
+    assert rules.signals == {}
+    assert reason({"values": {"a": 1}}, rules) == "a: not a signal of this twin's interface"
+    assert schema_from_interface({"commands": []}).is_open
