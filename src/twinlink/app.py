@@ -6,6 +6,7 @@ import logging
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
+from typing import Any
 
 from fastapi import FastAPI
 
@@ -13,21 +14,29 @@ from twinlink import __version__
 from twinlink.api import (
     apidocs,
     auth,
+    commands,
     device_ws,
     devices,
+    live,
     pages,
     problems,
+    properties,
     search,
     system,
     twins,
 )
+from twinlink.api import history as history_api
 from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.bus import Bus, MemoryBus
+from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
+from twinlink.history.maintenance import HistoryMaintenance
+from twinlink.history.service import HistoryService
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
-from twinlink.metrics import Metrics, MetricsMiddleware
+from twinlink.live import LiveHub
+from twinlink.metrics import DataPlaneCollector, Metrics, MetricsMiddleware
 from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
@@ -48,6 +57,11 @@ class Services:
     history: SqliteHistory
     ingest: IngestService
     device_hub: DeviceHub
+    commands: CommandService
+    properties: PropertyService
+    live: LiveHub
+    history_service: HistoryService
+    history_maintenance: HistoryMaintenance
 
 
 def build_services(settings: Settings) -> Services:
@@ -55,6 +69,9 @@ def build_services(settings: Settings) -> Services:
     registry = RegistryService(store, settings.base_url)
     bus = MemoryBus()
     history = SqliteHistory(settings.data_dir, settings.history_sync)
+    hub = DeviceHub()
+    maintenance = HistoryMaintenance(history, settings.history_retention_days)
+    registry.deleted_listeners.append(maintenance.twins_deleted)
     return Services(
         store=store,
         auth=AuthService(store, settings.session_ttl_s),
@@ -64,8 +81,23 @@ def build_services(settings: Settings) -> Services:
         bus=bus,
         history=history,
         ingest=IngestService(registry, history, bus),
-        device_hub=DeviceHub(),
+        device_hub=hub,
+        commands=CommandService(registry, history, hub, settings.command_timeout_s),
+        properties=PropertyService(registry, history, hub),
+        live=LiveHub(bus),
+        history_service=HistoryService(registry, history),
+        history_maintenance=maintenance,
     )
+
+
+def data_plane_figures(services: Services) -> dict[str, Any]:
+    return {
+        "samples_accepted": services.ingest.samples_accepted,
+        "samples_rejected": services.ingest.samples_rejected,
+        "batches_duplicate": services.ingest.batches_duplicate,
+        "history_commits": services.history.writer.commits,
+        "devices_connected": len(services.device_hub.sessions),
+    }
 
 
 def create_app(
@@ -75,11 +107,14 @@ def create_app(
 ) -> FastAPI:
     services = build_services(settings)
     metrics = Metrics()
+    metrics.registry.register(DataPlaneCollector(lambda: data_plane_figures(services)))
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         await services.store.open()
         await services.history.open()
+        await services.commands.open()
+        await services.properties.open()
         await services.bus.start()
         created = await services.auth.bootstrap(
             settings.admin_token.get_secret_value() if settings.admin_token else None,
@@ -87,15 +122,26 @@ def create_app(
         )
         if created is not None and on_bootstrap is not None:
             on_bootstrap(created)
+        cleanup = None
         if on_ready is not None:
+            # on_ready may return (or resolve to) a coroutine function run at shutdown.
             result = on_ready(services)
             if hasattr(result, "__await__"):
-                await result
+                result = await result
+            if callable(result):
+                cleanup = result
+        services.history_maintenance.start()
         log.info("ready", extra={"event": "ready", "url": settings.base_url})
         try:
             yield
         finally:
+            if cleanup is not None:
+                await cleanup()
+            services.live.close()
             await services.bus.stop()
+            await services.properties.close()
+            await services.commands.close()
+            await services.history_maintenance.stop()
             await services.history.close()
             await services.store.close()
 
@@ -115,7 +161,9 @@ def create_app(
     app.state.services = services
     app.state.metrics = metrics
     problems.install(app)
-    for module in (system, auth, twins, devices, device_ws, search, pages):
+    for module in (system, auth, twins, devices, device_ws, live, history_api, search, pages):
+        app.include_router(module.router)
+    for module in (commands, properties):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

@@ -174,3 +174,13 @@ main.add_command(tokens)
 from twinlink.cli_simulate import simulate  # noqa: E402
 
 main.add_command(simulate)
+
+from twinlink.cli_commands import commands, properties, send  # noqa: E402
+
+main.add_command(send)
+main.add_command(commands)
+main.add_command(properties)
+
+from twinlink.cli_history import history  # noqa: E402
+
+main.add_command(history)

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Iterator
+from typing import Any
 
 from prometheus_client import CollectorRegistry, Counter, Gauge, Histogram
+from prometheus_client.core import CounterMetricFamily, GaugeMetricFamily, Metric
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 
@@ -55,3 +58,28 @@ class MetricsMiddleware:
             template = getattr(route, "path", None) or "unmatched"
             self.metrics.requests.labels(scope["method"], template, str(status)).inc()
             self.metrics.latency.labels(template).observe(time.perf_counter() - start)
+
+
+class DataPlaneCollector:
+    """Reads the data plane's own counters at scrape time (no work on the hot path)."""
+
+    def __init__(self, read: Callable[[], dict[str, Any]]) -> None:
+        self.read = read
+
+    def describe(self) -> list[Metric]:
+        return []
+
+    def collect(self) -> Iterator[Metric]:
+        now = self.read()
+        for name, help_text in (
+            ("samples_accepted", "Samples stored from devices"),
+            ("samples_rejected", "Samples rejected by the checks, with a reason to the device"),
+            ("batches_duplicate", "Resent batches acknowledged without storing them again"),
+            ("history_commits", "Group commits of the history store"),
+        ):
+            yield CounterMetricFamily(f"twinlink_{name}", help_text, value=now[name])
+        yield GaugeMetricFamily(
+            "twinlink_devices_connected",
+            "Devices connected over the WebSocket",
+            value=now["devices_connected"],
+        )

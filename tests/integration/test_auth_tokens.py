@@ -98,6 +98,8 @@ def _fill(path: str, world: World, slug: str) -> str:
         "username": world.username,
         "level": "public",
         "device": "some-device",
+        "stream": "telemetry",
+        "command_id": "some-command",
     }
 
     def sub(m: re.Match[str]) -> str:

@@ -12,10 +12,10 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from twinlink_edge.aio import AsyncDevice
 
 from tests.conftest import Server, restart_server, start_server, stop_server
 from tests.integration._live import device_twin, stored_values
+from twinlink_edge.aio import AsyncDevice
 
 DEVICES = 4
 PER_TICK = 50  # samples each device adds per loop turn
@@ -80,7 +80,9 @@ async def test_kill_9_loses_nothing_acknowledged_and_devices_resume(
             assert (
                 len(await asyncio.to_thread(stored_values, restarted, slug, f"n_dev{i}")) >= acked
             )
-        await _until(lambda: all(d.connections > c for d, c in zip(devices, connections)))
+        await _until(
+            lambda: all(d.connections > c for d, c in zip(devices, connections, strict=True))
+        )
         stop.set()
         await asyncio.gather(*producers)
         for device in devices:

@@ -243,3 +243,28 @@ def test_a_second_connection_of_a_device_replaces_the_first(server: Server) -> N
             assert closed.value.rcvd is not None and closed.value.rcvd.code == 4409
             send(second, batch(1, [{"values": {"x": 1}}]))
             assert receive(second, "ack")["accepted"] == 1
+
+
+def test_metrics_count_samples_and_connected_devices(server: Server) -> None:
+    def figure(name: str) -> float:
+        with server.admin as admin:
+            text = admin.get("/metrics").text
+        line = next(x for x in text.splitlines() if x.startswith(name + " "))
+        return float(line.split()[1])
+
+    _, (token,) = device_twin(server, INTERFACE)
+    accepted, rejected = (
+        figure("twinlink_samples_accepted_total"),
+        figure("twinlink_samples_rejected_total"),
+    )
+    _post(
+        server,
+        token,
+        {"seq": 1, "samples": [{"values": {"angle": 0.5}}] * 3 + [{"values": {"angle": 7}}]},
+    )
+    assert figure("twinlink_samples_accepted_total") == accepted + 3
+    assert figure("twinlink_samples_rejected_total") == rejected + 1
+    assert figure("twinlink_history_commits_total") >= 1
+    with device_socket(server, token) as ws:
+        receive(ws, "welcome")
+        assert figure("twinlink_devices_connected") >= 1

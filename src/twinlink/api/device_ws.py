@@ -166,16 +166,18 @@ class _Connection:
             self.error(str(err), seq=seq)
         except Exception:
             log.exception("storing a batch failed", extra={"event": "ingest_failed"})
-            self.error("the batch could not be stored; send it again", seq=seq)
+            self.error("the batch could not be stored; send it again", seq=seq, retry=True)
         else:
             self.session.send(ack.message())
         finally:
             self.in_flight.release()
 
-    def error(self, text: str, seq: Any = None) -> None:
+    def error(self, text: str, seq: Any = None, retry: bool = False) -> None:
         message: dict[str, Any] = {"type": "error", "message": text, "fatal": False}
         if isinstance(seq, int):
             message["seq"] = seq
+        if retry:  # nothing wrong with the batch: a transient failure; resend it as it was
+            message["retry"] = True
         self.session.send(message)
 
     async def finish(self) -> None:

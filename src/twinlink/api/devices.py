@@ -44,8 +44,8 @@ class NewDevice(BaseModel):
     description: str = Field("", max_length=2000)
 
 
-def device_view(d: Device) -> dict[str, Any]:
-    return {
+def device_view(d: Device, request: Request | None = None) -> dict[str, Any]:
+    view: dict[str, Any] = {
         "name": d.name,
         "twin": d.twin_slug,
         "description": d.description,
@@ -53,11 +53,16 @@ def device_view(d: Device) -> dict[str, Any]:
         "created": human_time(d.created_ns),
         "last_seen": human_time_or_none(d.last_seen_ns),
     }
+    if request is not None:  # whether it has a WebSocket session to this server now
+        view["connected"] = request.app.state.services.device_hub.session(d.id) is not None
+    return view
 
 
 @router.get("/twins/{slug}/devices", summary="The devices of a twin (viewers)")
-async def list_devices(slug: str, caller: Caller, devices: Devices) -> dict[str, Any]:
-    return {"devices": [device_view(d) for d in await devices.list(caller, slug)]}
+async def list_devices(
+    slug: str, caller: Caller, devices: Devices, request: Request
+) -> dict[str, Any]:
+    return {"devices": [device_view(d, request) for d in await devices.list(caller, slug)]}
 
 
 @router.post(
@@ -73,8 +78,10 @@ async def create_device(
 
 
 @router.get("/twins/{slug}/devices/{device}", summary="One device (viewers)")
-async def get_device(slug: str, device: str, caller: Caller, devices: Devices) -> dict[str, Any]:
-    return device_view(await devices.get(caller, slug, device))
+async def get_device(
+    slug: str, device: str, caller: Caller, devices: Devices, request: Request
+) -> dict[str, Any]:
+    return device_view(await devices.get(caller, slug, device), request)
 
 
 @router.post(

@@ -74,6 +74,17 @@ class RegistryService:
             raise NotFoundError(f"no twin {slug!r}")
         return twin, role
 
+    async def require_role(
+        self, principal: Principal, slug: str, needed: str, what: str
+    ) -> TwinRecord:
+        """The twin, if the caller has at least the `needed` role on it (admins always);
+        ForbiddenError names `what` the role is needed for. A twin's data (history, live
+        streams, commands) needs a role: seeing its public document is not enough."""
+        twin, role = await self.require_twin(principal, slug)
+        if not has_role(principal, role, needed):
+            raise ForbiddenError(f"{what} of {slug!r} need the {needed} role")
+        return twin
+
     async def document(
         self, principal: Principal, slug: str
     ) -> tuple[TwinRecord, str | None, dict[str, Any]]:

@@ -1,0 +1,196 @@
+"""/api/v1/twins/{slug}/streams: a twin's stored telemetry (anyone with a role on the twin).
+
+Times in answers are integers, ns since the epoch. `start` and `end` accept ISO 8601, integer
+ns, `now` or a time back from now (`-1h`); see `history.params`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Annotated
+
+from fastapi import APIRouter, Depends, HTTPException, Query, Request
+from starlette.responses import StreamingResponse
+
+from twinlink.api.deps import Caller
+from twinlink.api.responses import JSONAnswer
+from twinlink.history.params import (
+    DURATION_HELP,
+    TIME_HELP,
+    QueryError,
+    parse_choice,
+    parse_choices,
+    parse_cursor,
+    parse_duration,
+    parse_names,
+    parse_time,
+)
+from twinlink.history.service import HistoryService, Selection
+from twinlink.store.sqlite.history.aggregate import FUNCTIONS
+from twinlink.store.sqlite.history.downsample import METHODS
+from twinlink.store.sqlite.history.export import FORMATS, TIME_FORMATS
+from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
+
+router = APIRouter(prefix="/api/v1/twins/{slug}/streams", tags=["history"])
+
+
+def history_service(request: Request) -> HistoryService:
+    return request.app.state.services.history_service  # type: ignore[no-any-return]
+
+
+History = Annotated[HistoryService, Depends(history_service)]
+Signals = Annotated[
+    str | None, Query(description="Comma-separated signal names; every signal when left out.")
+]
+Start = Annotated[str | None, Query(description=f"From this time (inclusive): {TIME_HELP}.")]
+End = Annotated[str | None, Query(description=f"To this time (inclusive): {TIME_HELP}.")]
+
+
+@contextmanager
+def _bad_parameters() -> Iterator[None]:
+    """A QueryError becomes a 422 problem with its message."""
+    try:
+        yield
+    except QueryError as err:
+        raise HTTPException(422, str(err)) from None
+
+
+def _selection(
+    history: HistoryService,
+    stream: str,
+    signals: str | None,
+    start: str | None,
+    end: str | None,
+) -> Selection:
+    now = history.clock()
+    return Selection(
+        stream=stream,
+        signals=parse_names(signals),
+        start=parse_time(start, "start", now, MIN_TIME),
+        end=parse_time(end, "end", now, MAX_TIME),
+    )
+
+
+@router.get("", summary="The twin's streams and their signals", response_class=JSONAnswer)
+async def list_streams(slug: str, caller: Caller, history: History) -> JSONAnswer:
+    return JSONAnswer(await history.streams(caller, slug))
+
+
+@router.get(
+    "/{stream}/latest",
+    summary="The newest value of each signal of a stream",
+    response_class=JSONAnswer,
+)
+async def latest(
+    slug: str, stream: str, caller: Caller, history: History, signals: Signals = None
+) -> JSONAnswer:
+    with _bad_parameters():
+        names = parse_names(signals)
+        return JSONAnswer(await history.latest(caller, slug, stream, names))
+
+
+@router.get(
+    "/{stream}/samples",
+    summary="Stored samples in a time range, as rows joined on time, a page at a time",
+    response_class=JSONAnswer,
+)
+async def samples(
+    slug: str,
+    stream: str,
+    caller: Caller,
+    history: History,
+    signals: Signals = None,
+    start: Start = None,
+    end: End = None,
+    limit: Annotated[int, Query(ge=1, le=100_000, description="Most rows in this page.")] = 1000,
+    cursor: Annotated[str | None, Query(description="`next_cursor` of the previous page.")] = None,
+) -> JSONAnswer:
+    with _bad_parameters():
+        sel = _selection(history, stream, signals, start, end)
+        after = parse_cursor(cursor)
+        return JSONAnswer(await history.samples(caller, slug, sel, limit, after))
+
+
+@router.get(
+    "/{stream}/aggregate",
+    summary="Aggregates (avg, min, max, count, first, last, sum) over fixed time buckets",
+    response_class=JSONAnswer,
+)
+async def aggregate(
+    slug: str,
+    stream: str,
+    caller: Caller,
+    history: History,
+    bucket: Annotated[
+        str, Query(description=f"Bucket width, aligned to the epoch: {DURATION_HELP}.")
+    ] = "1m",
+    fn: Annotated[
+        str | None,
+        Query(description=f"Comma-separated functions of {', '.join(FUNCTIONS)}; default avg."),
+    ] = None,
+    signals: Signals = None,
+    start: Start = None,
+    end: End = None,
+) -> JSONAnswer:
+    with _bad_parameters():
+        sel = _selection(history, stream, signals, start, end)
+        width = parse_duration(bucket, "bucket")
+        fns = parse_choices(fn, "fn", FUNCTIONS, ["avg"])
+        return JSONAnswer(await history.aggregate(caller, slug, sel, width, fns))
+
+
+@router.get(
+    "/{stream}/downsample",
+    summary="At most `points` samples per signal that keep the peaks (minmax or lttb)",
+    response_class=JSONAnswer,
+)
+async def downsample(
+    slug: str,
+    stream: str,
+    caller: Caller,
+    history: History,
+    points: Annotated[int, Query(ge=2, le=100_000, description="Most samples per signal.")] = 1000,
+    method: Annotated[
+        str | None,
+        Query(description="minmax (each bucket's min and max) or lttb (largest triangle)."),
+    ] = None,
+    signals: Signals = None,
+    start: Start = None,
+    end: End = None,
+) -> JSONAnswer:
+    with _bad_parameters():
+        sel = _selection(history, stream, signals, start, end)
+        chosen = parse_choice(method, "method", METHODS, "minmax")
+        return JSONAnswer(await history.downsample(caller, slug, sel, points, chosen))
+
+
+@router.get(
+    "/{stream}/export",
+    summary="The range as a CSV, JSON lines or JSON file, streamed",
+    response_class=StreamingResponse,
+)
+async def export(
+    slug: str,
+    stream: str,
+    caller: Caller,
+    history: History,
+    format: Annotated[str | None, Query(description="csv (default), jsonl or json.")] = None,
+    time: Annotated[
+        str | None,
+        Query(description="iso (ISO 8601 UTC with ns; default for csv) or ns (default else)."),
+    ] = None,
+    signals: Signals = None,
+    start: Start = None,
+    end: End = None,
+) -> StreamingResponse:
+    with _bad_parameters():
+        sel = _selection(history, stream, signals, start, end)
+        fmt = parse_choice(format, "format", FORMATS, "csv")
+        time_format = parse_choice(time, "time", TIME_FORMATS, "iso" if fmt == "csv" else "ns")
+        out = await history.export(caller, slug, sel, fmt, time_format)
+    return StreamingResponse(
+        out.body,
+        media_type=out.media_type,
+        headers={"Content-Disposition": f'attachment; filename="{out.filename}"'},
+    )

@@ -1,0 +1,71 @@
+"""Device properties: /api/v1/twins/{slug}/devices/{device}/properties for people and
+/api/v1/device/properties for a device without a WebSocket."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Body, Depends, Request
+
+from twinlink.api.deps import Caller
+from twinlink.api.devices import ThisDevice
+from twinlink.api.responses import JSONAnswer
+from twinlink.commands import PropertyService
+
+router = APIRouter(prefix="/api/v1", tags=["properties"])
+
+
+async def property_service(request: Request) -> PropertyService:
+    return request.app.state.services.properties  # type: ignore[no-any-return]
+
+
+Properties = Annotated[PropertyService, Depends(property_service)]
+
+
+@router.get(
+    "/twins/{slug}/devices/{device}/properties",
+    summary="Reported and desired properties of a device, and their delta (viewers)",
+    response_class=JSONAnswer,
+)
+async def get_properties(
+    slug: str, device: str, caller: Caller, properties: Properties
+) -> dict[str, Any]:
+    return {"device": device, **(await properties.show(caller, slug, device)).view()}
+
+
+@router.patch(
+    "/twins/{slug}/devices/{device}/properties/desired",
+    summary="Change desired properties (editors): name -> value, null removes one",
+    response_class=JSONAnswer,
+)
+async def patch_desired(
+    slug: str,
+    device: str,
+    changes: Annotated[dict[str, Any], Body(description="property name -> value (or null)")],
+    caller: Caller,
+    properties: Properties,
+) -> dict[str, Any]:
+    props = await properties.set_desired(caller, slug, device, changes)
+    return {"device": device, **props.view()}
+
+
+@router.get(
+    "/device/properties",
+    summary="This device's properties: desired, delta and version (device token)",
+    response_class=JSONAnswer,
+)
+async def device_properties(device: ThisDevice, properties: Properties) -> dict[str, Any]:
+    return {"device": device.name, **(await properties.for_device(device)).view()}
+
+
+@router.post(
+    "/device/properties",
+    summary="Report property values (device token); the answer has the desired delta",
+    response_class=JSONAnswer,
+)
+async def report_properties(
+    device: ThisDevice,
+    properties: Properties,
+    body: Annotated[dict[str, Any], Body(description='{"properties": {name: value}}')],
+) -> dict[str, Any]:
+    return await properties.report(device, body.get("properties"))

@@ -1,0 +1,164 @@
+"""Device properties: what the device reports, what people desire, and the delta sent to it.
+
+The device learns the delta (desired values that differ from its reported ones) in its
+`welcome`, in a `desired` message after every desired change, and in each `reported_ack`.
+Every change is durable (one group commit of history.db) before it is acknowledged.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from functools import partial
+from typing import Any
+
+from twinlink.auth.rights import Principal, has_role
+from twinlink.commands.db import ReadConnection
+from twinlink.commands.interfaces import InterfaceRules
+from twinlink.commands.rules import check_desired, check_reported
+from twinlink.commands.state import (
+    DeviceProperties,
+    delete_properties_of,
+    load_properties,
+    save_properties,
+)
+from twinlink.domain.errors import ForbiddenError, NotFoundError
+from twinlink.ingest.sessions import DeviceHub, DeviceSession
+from twinlink.registry.service import RegistryService
+from twinlink.store.records import Device
+from twinlink.store.sqlite.history import SqliteHistory
+
+log = logging.getLogger("twinlink.commands")
+
+
+class PropertyService:
+    def __init__(self, registry: RegistryService, history: SqliteHistory, hub: DeviceHub) -> None:
+        self.registry = registry
+        self.history = history
+        self.hub = hub
+        self.reader = ReadConnection(history.path)
+        self.rules = InterfaceRules(registry)
+        self._cache: dict[int, DeviceProperties] = {}
+        self._load_lock = asyncio.Lock()
+        self._tasks: set[asyncio.Task[None]] = set()
+        hub.handle("reported", self._on_reported)
+        hub.welcome_extras.append(self._welcome)
+        registry.deleted_listeners.append(self._twins_deleted)
+
+    async def open(self) -> None:
+        await self.reader.open()
+
+    async def close(self) -> None:
+        if self._tasks:
+            await asyncio.gather(*self._tasks, return_exceptions=True)
+        await self.reader.close()
+
+    # -- people ----------------------------------------------------------------------------
+
+    async def show(self, principal: Principal, slug: str, device: str) -> DeviceProperties:
+        return await self._state(await self._device(principal, slug, device, "viewer"))
+
+    async def set_desired(
+        self, principal: Principal, slug: str, device: str, changes: Any
+    ) -> DeviceProperties:
+        """Merge `changes` into the desired values (null removes one) and tell the device."""
+        target = await self._device(principal, slug, device, "editor")
+        checked = check_desired(await self.rules.get(target.twin_id), changes)
+        props = await self._state(target)
+        changed = props.set_desired(checked, time.time_ns())
+        if changed:
+            await self._save(props, changed)
+            session = self.hub.session(target.id)
+            if session is not None:
+                session.send({"type": "desired", "properties": props.delta(),
+                              "version": props.version})  # fmt: skip
+        return props
+
+    async def _device(self, principal: Principal, slug: str, name: str, needed: str) -> Device:
+        twin, role = await self.registry.require_twin(principal, slug)
+        if not has_role(principal, role, needed):
+            what = "changing" if needed == "editor" else "reading"
+            raise ForbiddenError(f"{what} device properties of {slug!r} needs the {needed} role")
+        found = await self.registry.store.get_device(twin.id, name)
+        if found is None:
+            raise NotFoundError(f"twin {slug!r} has no device {name!r}")
+        return found
+
+    # -- devices ---------------------------------------------------------------------------
+
+    async def for_device(self, device: Device) -> DeviceProperties:
+        return await self._state(device)
+
+    async def report(self, device: Device, properties: Any) -> dict[str, Any]:
+        """Store reported values (durably); the answer is the `reported_ack` body."""
+        return await self._store_report(*await self._apply_report(device, properties))
+
+    async def _apply_report(
+        self, device: Device, properties: Any
+    ) -> tuple[DeviceProperties, list[str]]:
+        checked = check_reported(await self.rules.get(device.twin_id), properties)
+        props = await self._state(device)
+        return props, props.set_reported(checked, time.time_ns())
+
+    async def _store_report(self, props: DeviceProperties, names: list[str]) -> dict[str, Any]:
+        await self._save(props, names)
+        return {"version": props.version, "desired": props.delta()}
+
+    async def _on_reported(
+        self, session: DeviceSession, message: dict[str, Any]
+    ) -> dict[str, Any] | None:
+        # Checked and applied here, in message order (a bad one is answered with an error);
+        # the ack waits for the commit in a task, so reading the socket does not.
+        props, names = await self._apply_report(session.device, message.get("properties"))
+        task = asyncio.create_task(self._ack(session, props, names))
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+        return None
+
+    async def _ack(self, session: DeviceSession, props: DeviceProperties, names: list[str]) -> None:
+        try:
+            body = await self._store_report(props, names)
+        except Exception:
+            log.exception("storing reported properties failed", extra={"event": "reported_failed"})
+            text = "the reported values could not be stored; send them again"
+            session.send({"type": "error", "fatal": False, "message": text})
+            return
+        session.send({"type": "reported_ack", **body})
+
+    async def _welcome(self, device: Device) -> dict[str, Any]:
+        props = await self._state(device)
+        return {"desired": props.delta(), "desired_version": props.version}
+
+    # -- state -----------------------------------------------------------------------------
+
+    async def _state(self, device: Device) -> DeviceProperties:
+        props = self._cache.get(device.id)
+        if props is not None and props.device_created_ns == device.created_ns:
+            return props
+        async with self._load_lock:
+            props = self._cache.get(device.id)
+            if props is None or props.device_created_ns != device.created_ns:
+                load = partial(load_properties, device.id, device.twin_id, device.created_ns)
+                props = await self.reader.read(load)
+                self._cache[device.id] = props
+        return props
+
+    async def _save(self, props: DeviceProperties, names: list[str]) -> None:
+        key = (props.device_id, props.twin_id, props.device_created_ns, props.version)
+        try:
+            await self.history.write(partial(save_properties, key, props.rows(names)))
+        except BaseException:
+            self._cache.pop(props.device_id, None)  # memory ran ahead of the disk: reload
+            raise
+
+    def _twins_deleted(self, twin_ids: list[int]) -> None:
+        doomed = set(twin_ids)
+        for device_id in [d for d, p in self._cache.items() if p.twin_id in doomed]:
+            del self._cache[device_id]
+        task = asyncio.create_task(self._forget(twin_ids))
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    async def _forget(self, twin_ids: list[int]) -> None:
+        await self.history.write(partial(delete_properties_of, twin_ids))

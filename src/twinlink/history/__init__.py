@@ -1,0 +1,1 @@
+"""Reading stored telemetry: rights, query parameters, and keeping history tidy."""

@@ -1,0 +1,90 @@
+"""Keeping history tidy in the background: retention, the dedupe record, deleted twins.
+
+Every 10 minutes (and once at start): samples older than `history_retention_days` are deleted
+when it is more than 0, and the record of stored batches (which makes a resent batch a
+duplicate) forgets batches older than 7 days. When twins are deleted, their history goes too.
+Every deletion runs in chunks through the writer's group commit, so ingest keeps flowing.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from collections.abc import Callable
+
+from twinlink.store.sqlite.history import SqliteHistory
+
+log = logging.getLogger("twinlink.history")
+
+EVERY_S = 600.0
+DAY_NS = 86_400 * 10**9
+DEDUPE_DAYS = 7
+
+
+class HistoryMaintenance:
+    def __init__(
+        self,
+        history: SqliteHistory,
+        retention_days: float,
+        every_s: float = EVERY_S,
+        clock: Callable[[], int] = time.time_ns,
+    ) -> None:
+        self.history = history
+        self.retention_days = retention_days
+        self.every_s = every_s
+        self.clock = clock
+        self._loop_task: asyncio.Task[None] | None = None
+        self._deletions: set[asyncio.Task[None]] = set()
+
+    def start(self) -> None:
+        self._loop_task = asyncio.create_task(self._run(), name="history-maintenance")
+
+    async def stop(self) -> None:
+        if self._loop_task is not None:
+            self._loop_task.cancel()
+            await asyncio.gather(self._loop_task, return_exceptions=True)
+            self._loop_task = None
+        # A twin's deletion that has begun is finished: its history must not outlive it.
+        await asyncio.gather(*self._deletions, return_exceptions=True)
+
+    async def _run(self) -> None:
+        while True:
+            try:
+                await self.run_once()
+            except Exception:
+                log.exception("history maintenance failed", extra={"event": "history_retention"})
+            await asyncio.sleep(self.every_s)
+
+    async def run_once(self) -> dict[str, int]:
+        """One round; returns what was deleted."""
+        now = self.clock()
+        done = {"blocks": 0, "batches": 0}
+        if self.retention_days > 0:
+            cutoff = now - int(self.retention_days * DAY_NS)
+            done["blocks"] = await self.history.delete_before(cutoff)
+        done["batches"] = await self.history.forget_ingested_before(now - DEDUPE_DAYS * DAY_NS)
+        if any(done.values()):
+            log.info("history retention", extra={"event": "history_retention", **done})
+        return done
+
+    def twins_deleted(self, twin_ids: list[int]) -> None:
+        """A registry listener: delete the history of these twins, in the background."""
+        for twin_id in twin_ids:
+            task = asyncio.create_task(self._delete_twin(twin_id), name=f"history-delete-{twin_id}")
+            self._deletions.add(task)
+            task.add_done_callback(self._deletions.discard)
+
+    async def _delete_twin(self, twin_id: int) -> None:
+        try:
+            blocks = await self.history.delete_twin(twin_id)
+        except Exception:
+            log.exception(
+                "deleting a twin's history failed",
+                extra={"event": "history_delete_failed", "twin_id": twin_id},
+            )
+            return
+        log.info(
+            "twin history deleted",
+            extra={"event": "history_deleted", "twin_id": twin_id, "blocks": blocks},
+        )

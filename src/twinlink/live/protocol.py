@@ -1,0 +1,187 @@
+"""The live WebSocket's messages: reading what a client sends, building what the server sends.
+
+Every client message is a JSON object with an `op`. A message that cannot be read raises
+`ClientError`; the connection answers it with an `error` message and stays open.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import orjson
+
+from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
+from twinlink.live.subscription import Subscription
+
+MAX_CLIENT_MESSAGE = 64 * 1024  # bytes; a subscribe with 1 000 signal names fits easily
+MAX_SUBSCRIPTIONS = 100  # per connection
+MAX_SIGNALS = 1_000  # per subscription
+MAX_ID = 64  # characters of a subscription id
+MAX_RATE = 1_000_000_000.0  # samples per second; above this max_rate would keep every sample
+DEFAULT_STREAM = "telemetry"
+OPS = ("subscribe", "unsubscribe", "ping")
+
+
+class ClientError(ValueError):
+    """A client message the server cannot act on; answered with an `error` message."""
+
+    def __init__(self, message: str, op: str | None = None, sub: str | None = None) -> None:
+        super().__init__(message)
+        self.op = op
+        self.sub = sub
+
+
+@dataclass(frozen=True, slots=True)
+class SubscribeRequest:
+    id: str
+    twin: str
+    stream: str
+    signals: frozenset[str] | None
+    max_rate: float | None
+
+
+def read_message(raw: str | bytes) -> dict[str, Any]:
+    """Parse one client frame into an object with a string `op`."""
+    if _size(raw) > MAX_CLIENT_MESSAGE:
+        raise ClientError(f"a message holds at most {MAX_CLIENT_MESSAGE} bytes")
+    try:
+        message = orjson.loads(raw)
+    except orjson.JSONDecodeError as err:
+        raise ClientError(f"the message is not JSON: {err}") from None
+    if not isinstance(message, dict):
+        raise ClientError('a message is a JSON object with an "op"')
+    op = message.get("op")
+    if not isinstance(op, str):
+        raise ClientError('a message needs an "op": subscribe, unsubscribe or ping')
+    return message
+
+
+def _size(raw: str | bytes) -> int:
+    if isinstance(raw, bytes) or len(raw) > MAX_CLIENT_MESSAGE:
+        return len(raw)  # a text longer in characters is longer in UTF-8 bytes too
+    return len(raw.encode())
+
+
+def read_token(message: dict[str, Any]) -> str:
+    """The token of a first `{"op": "auth", "token": ...}` message."""
+    token = message.get("token")
+    if message.get("op") != "auth" or not isinstance(token, str) or not token:
+        raise ClientError('authenticate first: {"op": "auth", "token": "tl_..."}', op="auth")
+    return token
+
+
+def read_sub_id(message: dict[str, Any]) -> str:
+    op = str(message.get("op"))
+    sub = message.get("id")
+    if not isinstance(sub, str) or not 0 < len(sub) <= MAX_ID:
+        raise ClientError(f'"id" must be a string of 1 to {MAX_ID} characters', op=op)
+    return sub
+
+
+def read_subscribe(message: dict[str, Any]) -> SubscribeRequest:
+    sub = read_sub_id(message)
+    twin = message.get("twin")
+    if not isinstance(twin, str) or not twin:
+        raise ClientError('"twin" must be the slug of a twin', "subscribe", sub)
+    stream = message.get("stream", DEFAULT_STREAM)
+    if not isinstance(stream, str) or not STREAM_NAME.match(stream):
+        raise ClientError(f'"stream" must match {STREAM_NAME.pattern}', "subscribe", sub)
+    return SubscribeRequest(
+        sub, twin, stream, _read_signals(message.get("signals"), sub), _read_rate(message, sub)
+    )
+
+
+def _read_signals(raw: Any, sub: str) -> frozenset[str] | None:
+    if raw is None:
+        return None
+    if not isinstance(raw, list) or not 0 < len(raw) <= MAX_SIGNALS:
+        raise ClientError(
+            f'"signals" must be a list of 1 to {MAX_SIGNALS} names (leave it out for all)',
+            "subscribe",
+            sub,
+        )
+    for name in raw:
+        if not isinstance(name, str) or not SIGNAL_NAME.match(name):
+            raise ClientError(
+                f"signal name {name!r} must match {SIGNAL_NAME.pattern}", "subscribe", sub
+            )
+    return frozenset(raw)
+
+
+def _read_rate(message: dict[str, Any], sub: str) -> float | None:
+    rate = message.get("max_rate")
+    if rate is None:
+        return None
+    if (
+        isinstance(rate, bool)
+        or not isinstance(rate, int | float)
+        or not math.isfinite(rate)
+        or not 0 < rate <= MAX_RATE
+    ):
+        raise ClientError(
+            '"max_rate" must be a number of samples per second above 0', "subscribe", sub
+        )
+    return float(rate)
+
+
+# -- server messages ------------------------------------------------------------------------
+
+
+def encode(message: dict[str, Any]) -> bytes:
+    return orjson.dumps(message)
+
+
+def welcome(user: str, queue_messages: int) -> dict[str, Any]:
+    return {
+        "type": "welcome",
+        "user": user,
+        "server_time": time.time_ns(),
+        "limits": {
+            "subscriptions": MAX_SUBSCRIPTIONS,
+            "signals": MAX_SIGNALS,
+            "message_bytes": MAX_CLIENT_MESSAGE,
+            "queue_messages": queue_messages,
+        },
+    }
+
+
+def subscribed(sub: Subscription, latest: dict[str, dict[str, Any]]) -> dict[str, Any]:
+    return {
+        "type": "subscribed",
+        "id": sub.id,
+        "twin": sub.twin,
+        "stream": sub.stream,
+        "signals": sorted(sub.signals) if sub.signals is not None else None,
+        "max_rate": sub.max_rate,
+        "latest": latest,
+    }
+
+
+def unsubscribed(sub: str, reason: str | None = None) -> dict[str, Any]:
+    out: dict[str, Any] = {"type": "unsubscribed", "id": sub}
+    if reason is not None:
+        out["reason"] = reason
+    return out
+
+
+def pong(message: dict[str, Any]) -> dict[str, Any]:
+    out: dict[str, Any] = {"type": "pong", "server_time": time.time_ns()}
+    if "id" in message:
+        out["id"] = message["id"]
+    return out
+
+
+def error(err: ClientError) -> dict[str, Any]:
+    out: dict[str, Any] = {"type": "error", "message": str(err)}
+    if err.op is not None:
+        out["op"] = err.op
+    if err.sub is not None:
+        out["id"] = err.sub
+    return out
+
+
+def dropped(sub: str, messages: int, samples: int) -> dict[str, Any]:
+    return {"type": "dropped", "sub": sub, "messages": messages, "samples": samples}

@@ -1,0 +1,138 @@
+"""Export of a range as CSV, JSON lines or a JSON array, streamed in constant memory.
+
+The rows come from the k-way merge a run at a time and leave as text in pieces of about
+64 KiB; nothing holds more than the blocks being merged and one piece of output.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from collections.abc import Generator, Iterable, Iterator
+from typing import Any
+
+import numpy as np
+import orjson
+
+from twinlink.store.sqlite.history.columns import Times, Values
+from twinlink.store.sqlite.history.merge import Rows, joined_rows
+from twinlink.store.sqlite.history.queries import Series
+
+FORMATS = ("csv", "jsonl", "json")
+TIME_FORMATS = ("iso", "ns")
+MEDIA_TYPES = {
+    "csv": "text/csv; charset=utf-8",
+    "jsonl": "application/jsonl",
+    "json": "application/json",
+}
+_PIECE = 64 * 1024
+
+
+def iso_times(times: Times) -> list[str]:
+    """ISO 8601 in UTC with nanoseconds: 2026-11-21T10:00:00.123456789Z."""
+    text = np.datetime_as_string(times.astype("datetime64[ns]"), unit="ns", timezone="UTC")
+    return text.tolist()  # type: ignore[no-any-return]
+
+
+def _time_texts(times: Times, time_format: str) -> list[str]:
+    return iso_times(times) if time_format == "iso" else list(map(str, times.tolist()))
+
+
+def csv_cell(value: Any) -> str:
+    if value is True:
+        return "true"
+    if value is False:
+        return "false"
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, str):
+        if any(c in value for c in ',"\r\n'):
+            return '"' + value.replace('"', '""') + '"'
+        return value
+    return str(value)
+
+
+def _cells(values: Values) -> list[str]:
+    if values.dtype == bool:
+        return ["true" if v else "false" for v in values.tolist()]
+    if values.dtype.kind in "iu":
+        return list(map(str, values.tolist()))
+    if values.dtype.kind == "f":
+        return list(map(repr, values.tolist()))
+    return [csv_cell(v) for v in values.tolist()]
+
+
+def csv_text(rows: Rows, time_format: str) -> str:
+    """The rows as CSV lines: time, then one cell per signal, empty where it has no value."""
+    n = len(rows)
+    columns = []
+    for idx, values in rows.columns:
+        cells = _cells(values)
+        if idx.size != n:
+            spread = [""] * n
+            for i, cell in zip(idx.tolist(), cells, strict=True):
+                spread[i] = cell
+            cells = spread
+        columns.append(cells)
+    lines = zip(_time_texts(rows.times, time_format), *columns, strict=True)
+    return "".join(",".join(line) + "\n" for line in lines)
+
+
+def _pieces(texts: Iterable[bytes]) -> Iterator[bytes]:
+    """Join small texts into pieces of about 64 KiB."""
+    buffer: list[bytes] = []
+    size = 0
+    for text in texts:
+        buffer.append(text)
+        size += len(text)
+        if size >= _PIECE:
+            yield b"".join(buffer)
+            buffer, size = [], 0
+    if buffer:
+        yield b"".join(buffer)
+
+
+def _csv(runs: Iterator[Rows], names: list[str], time_format: str) -> Iterator[bytes]:
+    yield ("time," + ",".join(names) + "\n").encode()
+    for rows in runs:
+        yield csv_text(rows, time_format).encode()
+
+
+def _dicts(runs: Iterator[Rows], names: list[str], time_format: str) -> Iterator[dict[str, Any]]:
+    for rows in runs:
+        dicts = rows.as_dicts(names)
+        if time_format == "iso":
+            for row, text in zip(dicts, iso_times(rows.times), strict=True):
+                row["time"] = text
+        yield from dicts
+
+
+def _jsonl(runs: Iterator[Rows], names: list[str], time_format: str) -> Iterator[bytes]:
+    for row in _dicts(runs, names, time_format):
+        yield orjson.dumps(row) + b"\n"
+
+
+def _json(runs: Iterator[Rows], names: list[str], time_format: str) -> Iterator[bytes]:
+    separator = b"[\n"
+    for row in _dicts(runs, names, time_format):
+        yield separator + orjson.dumps(row)
+        separator = b",\n"
+    yield b"[]\n" if separator == b"[\n" else b"\n]\n"
+
+
+_WRITERS = {"csv": _csv, "jsonl": _jsonl, "json": _json}
+
+
+def export_pieces(
+    conn: sqlite3.Connection,
+    series: list[Series],
+    start: int,
+    end: int,
+    fmt: str,
+    time_format: str,
+) -> Generator[bytes, None, None]:
+    """The range as `fmt` text, in pieces of about 64 KiB."""
+    runs = joined_rows(conn, series, start, end)
+    try:
+        yield from _pieces(_WRITERS[fmt](runs, [s.signal for s in series], time_format))
+    finally:
+        runs.close()
