@@ -136,7 +136,7 @@ class _Connection:
 
     async def dispatch(self, message: dict[str, Any]) -> None:
         kind = message.get("type")
-        if kind == "samples":
+        if kind == "samples":  # errors about a batch name it by `seq`
             # Storing runs beside reading, so batches that arrive together share a commit;
             # the semaphore stops reading when too many are waiting (back-pressure).
             await self.in_flight.acquire()
@@ -149,7 +149,7 @@ class _Connection:
             try:
                 reply = await self.hub.handlers[kind](self.session, message)
             except ValueError as err:
-                self.error(str(err))
+                self.error(str(err), op=kind, ref=message.get("id"))
                 return
             if reply is not None:
                 self.session.send(reply)
@@ -172,8 +172,14 @@ class _Connection:
         finally:
             self.in_flight.release()
 
-    def error(self, text: str, seq: Any = None, retry: bool = False) -> None:
+    def error(
+        self, text: str, seq: Any = None, retry: bool = False, op: str = "", ref: Any = None
+    ) -> None:
         message: dict[str, Any] = {"type": "error", "message": text, "fatal": False}
+        if op:  # the type of the message this answers, and its `id` when it had one
+            message["op"] = op
+            if isinstance(ref, str | int) and not isinstance(ref, bool):
+                message["id"] = ref
         if isinstance(seq, int):
             message["seq"] = seq
         if retry:  # nothing wrong with the batch: a transient failure; resend it as it was

@@ -111,20 +111,28 @@ class PropertyService:
         # Checked and applied here, in message order (a bad one is answered with an error);
         # the ack waits for the commit in a task, so reading the socket does not.
         props, names = await self._apply_report(session.device, message.get("properties"))
-        task = asyncio.create_task(self._ack(session, props, names))
+        ref = message.get("id")
+        task = asyncio.create_task(self._ack(session, props, names, ref))
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
         return None
 
-    async def _ack(self, session: DeviceSession, props: DeviceProperties, names: list[str]) -> None:
+    async def _ack(
+        self, session: DeviceSession, props: DeviceProperties, names: list[str], ref: Any
+    ) -> None:
+        # `id` (when the device gave one) is echoed so it can match answers to reports.
+        echo = {"id": ref} if isinstance(ref, str | int) and not isinstance(ref, bool) else {}
         try:
             body = await self._store_report(props, names)
         except Exception:
             log.exception("storing reported properties failed", extra={"event": "reported_failed"})
             text = "the reported values could not be stored; send them again"
-            session.send({"type": "error", "fatal": False, "message": text})
+            session.send(
+                {"type": "error", "op": "reported", "fatal": False, "retry": True,
+                 "message": text, **echo}
+            )  # fmt: skip
             return
-        session.send({"type": "reported_ack", **body})
+        session.send({"type": "reported_ack", **body, **echo})
 
     async def _welcome(self, device: Device) -> dict[str, Any]:
         props = await self._state(device)
