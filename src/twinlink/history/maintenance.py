@@ -1,5 +1,6 @@
 """Keeping history tidy in the background: retention, the dedupe record, deleted twins.
 
+Every 30 seconds, series that got small blocks have them merged (store/.../compact.py).
 Every 10 minutes (and once at start): samples older than `history_retention_days` are deleted
 when it is more than 0, and the record of stored batches (which makes a resent batch a
 duplicate) forgets batches older than 7 days. When twins are deleted, their history goes too.
@@ -18,6 +19,7 @@ from twinlink.store.sqlite.history import SqliteHistory
 log = logging.getLogger("twinlink.history")
 
 EVERY_S = 600.0
+COMPACT_EVERY_S = 30.0
 DAY_NS = 86_400 * 10**9
 DEDUPE_DAYS = 7
 
@@ -28,6 +30,7 @@ class HistoryMaintenance:
         history: SqliteHistory,
         retention_days: float,
         every_s: float = EVERY_S,
+        compact_every_s: float = COMPACT_EVERY_S,
         clock: Callable[[], int] = time.time_ns,
     ) -> None:
         self.history = history
@@ -35,16 +38,20 @@ class HistoryMaintenance:
         self.every_s = every_s
         self.clock = clock
         self._loop_task: asyncio.Task[None] | None = None
+        self._compact_task: asyncio.Task[None] | None = None
+        self.compact_every_s = compact_every_s
         self._deletions: set[asyncio.Task[None]] = set()
 
     def start(self) -> None:
         self._loop_task = asyncio.create_task(self._run(), name="history-maintenance")
+        self._compact_task = asyncio.create_task(self._compact(), name="history-compaction")
 
     async def stop(self) -> None:
-        if self._loop_task is not None:
-            self._loop_task.cancel()
-            await asyncio.gather(self._loop_task, return_exceptions=True)
-            self._loop_task = None
+        for task in (self._loop_task, self._compact_task):
+            if task is not None:
+                task.cancel()
+                await asyncio.gather(task, return_exceptions=True)
+        self._loop_task = self._compact_task = None
         # A twin's deletion that has begun is finished: its history must not outlive it.
         await asyncio.gather(*self._deletions, return_exceptions=True)
 
@@ -55,6 +62,21 @@ class HistoryMaintenance:
             except Exception:
                 log.exception("history maintenance failed", extra={"event": "history_retention"})
             await asyncio.sleep(self.every_s)
+
+    async def _compact(self) -> None:
+        while True:
+            await asyncio.sleep(self.compact_every_s)
+            try:
+                done = await self.history.compact()
+            except Exception:
+                log.exception("history compaction failed", extra={"event": "history_compact"})
+                continue
+            if done.blocks_before:
+                log.debug(
+                    "history compacted",
+                    extra={"event": "history_compact", "before": done.blocks_before,
+                           "after": done.blocks_after},
+                )  # fmt: skip
 
     async def run_once(self) -> dict[str, int]:
         """One round; returns what was deleted."""

@@ -16,6 +16,7 @@ from typing import Any
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.sqlite.history import retention
 from twinlink.store.sqlite.history.aggregate import aggregate_rows, aggregate_series
+from twinlink.store.sqlite.history.compact import Compacted
 from twinlink.store.sqlite.history.downsample import Downsampled, downsample
 from twinlink.store.sqlite.history.export import export_pieces
 from twinlink.store.sqlite.history.merge import SamplePage, sample_page
@@ -55,6 +56,18 @@ class SqliteHistory:
 
     async def write(self, fn: WriteFn) -> object:
         return await self.writer.write(fn)
+
+    async def compact(self) -> Compacted:
+        """Merge small blocks of the series that got them since the last call, one series
+        per group commit (see compact.py)."""
+        total = Compacted()
+        for series_id in sorted(self.writer.take_small_blocks()):
+            done: Compacted = await self.writer.write(
+                partial(self.writer.compact, series_id=series_id)
+            )
+            total.blocks_before += done.blocks_before
+            total.blocks_after += done.blocks_after
+        return total
 
     # -- reads -------------------------------------------------------------------------
 

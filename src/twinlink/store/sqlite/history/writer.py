@@ -22,6 +22,7 @@ import orjson
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.sqlite.db import migrate
 from twinlink.store.sqlite.history.codec import Block, encode, split_signals
+from twinlink.store.sqlite.history.compact import SMALL, Compacted, compact_series
 
 log = logging.getLogger("twinlink.history")
 
@@ -58,6 +59,8 @@ class HistoryWriter:
         self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="twinlink-history")
         self._conn: sqlite3.Connection | None = None
         self._series: dict[tuple[int, str, str], tuple[int, int]] = {}  # -> (id, max span)
+        # Series that got small blocks since compaction last looked (compact.py).
+        self.small_blocks: set[int] = set()
         self._pending: list[_Append | _Write] = []
         self._wake = asyncio.Event()
         self._task: asyncio.Task[None] | None = None
@@ -198,6 +201,8 @@ class HistoryWriter:
                  block.vals)
             )  # fmt: skip
             ends.append((series_id, block.t1, block.last_v))
+            if block.n < SMALL:
+                self.small_blocks.add(series_id)
         conn.executemany("INSERT INTO blocks VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", rows)
         for series_id, t1, last in ends:
             known = latest.get(series_id)
@@ -240,6 +245,20 @@ class HistoryWriter:
         rows = conn.execute("SELECT id, twin_id, stream, signal, max_span_ns FROM series")
         for sid, twin_id, stream, signal, span in rows:
             self._series[(twin_id, stream, signal)] = (sid, span)
+
+    def compact(self, conn: sqlite3.Connection, series_id: int) -> Compacted:
+        """Merge the series' small blocks (a `write` fn); keeps the cached span in step."""
+        done = compact_series(conn, series_id)
+        if done.max_span_ns:
+            for key, (sid, span) in self._series.items():
+                if sid == series_id and done.max_span_ns > span:
+                    self._series[key] = (sid, done.max_span_ns)
+                    break
+        return done
+
+    def take_small_blocks(self) -> set[int]:
+        taken, self.small_blocks = self.small_blocks, set()
+        return taken
 
     def forget_series(self, twin_id: int) -> None:
         """Drop cached ids of a twin whose series were deleted (call from a `write` fn)."""

@@ -1,0 +1,106 @@
+"""Compaction merges small blocks into large ones without changing what any read returns."""
+
+from __future__ import annotations
+
+import sqlite3
+
+from tests.unit._history import STREAM, TWIN, S, T, write, write_column
+from tests.unit._history import history as history  # fixture
+from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.sqlite.history.compact import MAX_SAMPLES, MAX_SPAN_NS, SMALL, plan_runs
+
+
+def _blocks(history: SqliteHistory, signal: str) -> list[tuple[int, int, int, str]]:
+    conn = sqlite3.connect(history.path)
+    try:
+        return conn.execute(
+            "SELECT t0, t1, n, kind FROM blocks JOIN series ON series.id = series_id "
+            "WHERE signal = ? ORDER BY t0",
+            (signal,),
+        ).fetchall()
+    finally:
+        conn.close()
+
+
+async def _reads(history: SqliteHistory) -> dict[str, object]:
+    """What every kind of read answers for the first minute, in comparable form."""
+    fns = ["avg", "min", "max", "count", "first", "last"]
+    end = T + 60 * S
+    shapes = {}
+    for method in ("minmax", "lttb"):
+        found = await history.downsample(TWIN, STREAM, ["x"], T, end, 100, method)
+        shapes[method] = {k: (d.times.tolist(), d.values.tolist()) for k, d in found.items()}
+    return {
+        "samples": (await history.samples(TWIN, STREAM, None, T, end, 10_000)).rows,
+        # Sums are added in another order after a merge: compare averages to 1e-9.
+        "aggregate": [
+            {
+                **row,
+                "values": {"x": {**row["values"]["x"], "avg": round(row["values"]["x"]["avg"], 9)}},
+            }
+            for row in (await history.aggregate(TWIN, STREAM, ["x"], T, end, 7 * S, fns)).rows
+        ],
+        "downsample": shapes,
+        "latest": await history.latest(TWIN, STREAM, None),
+    }
+
+
+def test_runs_group_neighbours_up_to_the_limits() -> None:
+    small = [(i, T + i * S, T + i * S, 10) for i in range(5)]
+    assert plan_runs(small) == [[0, 1, 2, 3, 4]]
+    assert plan_runs(small, max_samples=25) == [[0, 1], [2, 3]]  # the last one stays alone
+    big = (99, T + 2 * S, T + 3 * S, SMALL)
+    assert plan_runs([*small[:2], big, *small[2:]]) == [[0, 1], [2, 3, 4]]
+    spread = [(i, T + i * MAX_SPAN_NS // 2, T + i * MAX_SPAN_NS // 2, 1) for i in range(4)]
+    assert plan_runs(spread) == [[0, 1, 2], [3]][:1]
+    assert plan_runs([small[0]]) == []
+
+
+async def test_small_blocks_become_one_and_reads_do_not_change(history: SqliteHistory) -> None:
+    times = [T + i * 10_000_000 for i in range(3000)]  # 100 Hz, 30 s
+    values = [float((i * 37) % 1000) + i * 1e-6 for i in range(3000)]  # no ties for min/max
+    await write_column(history, "x", times, values, block=5)
+    await write_column(history, "n", times, list(range(3000)), block=5)
+    before = await _reads(history)
+    assert len(_blocks(history, "x")) == 600
+    done = await history.compact()
+    assert (done.blocks_before, done.blocks_after) == (1200, 2)
+    assert [(b[2], b[3]) for b in _blocks(history, "x")] == [(3000, "f")]
+    assert [(b[2], b[3]) for b in _blocks(history, "n")] == [(3000, "i")]
+    assert await _reads(history) == before
+    assert (await history.compact()).blocks_before == 0  # nothing new: nothing to do
+
+
+async def test_merged_blocks_respect_the_sample_limit(history: SqliteHistory) -> None:
+    count = MAX_SAMPLES * 2 + 500
+    times = [T + i * 1_000_000 for i in range(count)]  # 1 kHz
+    await write_column(history, "x", times, [1.0] * count, block=50)
+    await history.compact()
+    sizes = [b[2] for b in _blocks(history, "x")]
+    assert sum(sizes) == count and max(sizes) <= MAX_SAMPLES and len(sizes) == 3
+
+
+async def test_a_merged_block_is_found_by_a_range_query_inside_it(
+    history: SqliteHistory,
+) -> None:
+    # The merged block spans more than any block written before: a query for its last
+    # second must still find it (series.max_span_ns grows with it, also in the writer's cache).
+    times = [T + i * S // 10 for i in range(500)]  # 10 Hz, 50 s, in blocks of 0.4 s
+    await write_column(history, "x", times, list(range(500)), block=4)
+    await history.compact()
+    await write(history, [(T + 100 * S, {"x": 1000})])  # a new batch: the cache must be right
+    page = await history.samples(TWIN, STREAM, ["x"], T + 49 * S, T + 49 * S + S // 2, 100)
+    assert [row["values"]["x"] for row in page.rows] == list(range(490, 496))  # end included
+
+
+async def test_equal_times_keep_arrival_order_and_mixed_kinds_merge(
+    history: SqliteHistory,
+) -> None:
+    await write(history, [(T, {"v": 1})])
+    await write(history, [(T, {"v": 2.5})])
+    await write(history, [(T + S, {"v": "text"})])
+    await write(history, [(T + 2 * S, {"v": True})])
+    await history.compact()
+    assert [(b[2], b[3]) for b in _blocks(history, "v")] == [(4, "j")]
+    page = await history.samples(TWIN, STREAM, ["v"], T, T + 3 * S, 10)
+    assert [row["values"]["v"] for row in page.rows] == [1, 2.5, "text", True]
