@@ -130,6 +130,7 @@ def create_app(
                 result = await result
             if callable(result):
                 cleanup = result
+        await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
         services.history_maintenance.start()
         log.info("ready", extra={"event": "ready", "url": settings.base_url})
         try:

@@ -104,3 +104,14 @@ async def test_equal_times_keep_arrival_order_and_mixed_kinds_merge(
     assert [(b[2], b[3]) for b in _blocks(history, "v")] == [(4, "j")]
     page = await history.samples(TWIN, STREAM, ["v"], T, T + 3 * S, 10)
     assert [row["values"]["v"] for row in page.rows] == [1, 2.5, "text", True]
+
+
+async def test_history_of_twins_that_no_longer_exist_is_swept(history: SqliteHistory) -> None:
+    from twinlink.history.maintenance import HistoryMaintenance
+
+    await write(history, [(T, {"x": 1})], twin_id=7)
+    await write(history, [(T, {"x": 2})], twin_id=8)
+    maintenance = HistoryMaintenance(history, retention_days=0)
+    assert await maintenance.sweep_orphans(existing={7}) == [8]
+    await maintenance.stop()  # waits for the deletions it started
+    assert await history.twin_ids() == {7}

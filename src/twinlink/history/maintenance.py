@@ -90,6 +90,14 @@ class HistoryMaintenance:
             log.info("history retention", extra={"event": "history_retention", **done})
         return done
 
+    async def sweep_orphans(self, existing: set[int]) -> list[int]:
+        """Delete the history of twins that no longer exist (a crash between deleting a twin
+        and deleting its history leaves such series behind). Call once at start."""
+        orphans = sorted(await self.history.twin_ids() - existing)
+        if orphans:
+            self.twins_deleted(orphans)
+        return orphans
+
     def twins_deleted(self, twin_ids: list[int]) -> None:
         """A registry listener: delete the history of these twins, in the background."""
         for twin_id in twin_ids:

@@ -113,3 +113,12 @@ class Database:
             return result
 
         return await self.run(_tx, self.conn)
+
+
+def next_id(conn: sqlite3.Connection, table: str) -> int:
+    """A fresh id for `table` that was never used before (migration 0004), even after the row
+    with the largest id is deleted. Call inside the write transaction that inserts the row."""
+    row = conn.execute(
+        "UPDATE id_counters SET next = next + 1 WHERE name = ? RETURNING next - 1", (table,)
+    ).fetchone()
+    return int(row[0])

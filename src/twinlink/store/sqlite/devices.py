@@ -6,7 +6,7 @@ import sqlite3
 
 from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Device
-from twinlink.store.sqlite.db import Database
+from twinlink.store.sqlite.db import Database, next_id
 
 _COLUMNS = "d.id, d.twin_id, t.slug, d.name, d.description, d.prefix, d.created_ns, d.last_seen_ns"
 _FROM = "FROM devices d JOIN twins t ON t.id = d.twin_id"
@@ -32,11 +32,12 @@ class DeviceTables:
         self, twin_id: int, name: str, description: str, token_hash: bytes, prefix: str, now_ns: int
     ) -> Device:
         def _create(c: sqlite3.Connection) -> Device:
-            device_id = c.execute(
-                "INSERT INTO devices(twin_id, name, description, token_hash, prefix, created_ns)"
-                " VALUES (?, ?, ?, ?, ?, ?)",
-                (twin_id, name, description, token_hash, prefix, now_ns),
-            ).lastrowid
+            device_id = next_id(c, "devices")
+            c.execute(
+                "INSERT INTO devices(id, twin_id, name, description, token_hash, prefix,"
+                " created_ns) VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (device_id, twin_id, name, description, token_hash, prefix, now_ns),
+            )
             return _device(
                 c.execute(f"SELECT {_COLUMNS} {_FROM} WHERE d.id = ?", (device_id,)).fetchone()
             )

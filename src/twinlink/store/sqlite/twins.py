@@ -10,7 +10,7 @@ import orjson
 
 from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Edge, TwinRecord, TwinWrite, Visibility
-from twinlink.store.sqlite.db import Database
+from twinlink.store.sqlite.db import Database, next_id
 from twinlink.store.sqlite.search import delete_search_rows, write_search_rows
 from twinlink.store.sqlite.visibility import part_visible
 
@@ -119,6 +119,10 @@ class TwinTables:
 
     async def count_twins(self) -> int:
         return await self.db.read(lambda c: c.execute("SELECT count(*) FROM twins").fetchone()[0])
+
+    async def twin_ids(self) -> set[int]:
+        rows = await self.db.read(lambda c: c.execute("SELECT id FROM twins").fetchall())
+        return {int(r[0]) for r in rows}
 
     async def get_parts(self, twin_id: int) -> dict[str, dict[str, Any]]:
         rows = await self.db.read(
@@ -233,11 +237,12 @@ class TwinTables:
 
 def _save_one(c: sqlite3.Connection, w: TwinWrite) -> int:
     if w.twin_id is None:
-        twin_id = c.execute(
-            "INSERT INTO twins(slug, dt_id, name, created_ns, modified_ns) VALUES (?, ?, ?, ?, ?)",
-            (w.slug, w.dt_id, w.name, w.created_ns, w.modified_ns),
-        ).lastrowid
-        assert twin_id is not None
+        twin_id = next_id(c, "twins")
+        c.execute(
+            "INSERT INTO twins(id, slug, dt_id, name, created_ns, modified_ns)"
+            " VALUES (?, ?, ?, ?, ?, ?)",
+            (twin_id, w.slug, w.dt_id, w.name, w.created_ns, w.modified_ns),
+        )
         if w.owner_user_id is not None:
             c.execute(
                 "INSERT INTO twin_roles(twin_id, user_id, role) VALUES (?, ?, 'owner')",

@@ -57,6 +57,13 @@ class SqliteHistory:
     async def write(self, fn: WriteFn) -> object:
         return await self.writer.write(fn)
 
+    async def twin_ids(self) -> set[int]:
+        """The twins that have series here."""
+        rows = await self.reader.run(
+            lambda conn: conn.execute("SELECT DISTINCT twin_id FROM series").fetchall()
+        )
+        return {int(r[0]) for r in rows}
+
     async def compact(self) -> Compacted:
         """Merge small blocks of the series that got them since the last call, one series
         per group commit (see compact.py)."""
