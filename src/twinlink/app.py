@@ -100,6 +100,32 @@ def data_plane_figures(services: Services) -> dict[str, Any]:
     }
 
 
+async def start_services(services: Services, settings: Settings) -> Bootstrap | None:
+    """Open the stores and start the background work; the first admin if one was made."""
+    await services.store.open()
+    await services.history.open()
+    await services.commands.open()
+    await services.properties.open()
+    await services.bus.start()
+    await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
+    services.history_maintenance.start()
+    return await services.auth.bootstrap(
+        settings.admin_token.get_secret_value() if settings.admin_token else None,
+        settings.admin_password.get_secret_value() if settings.admin_password else None,
+    )
+
+
+async def stop_services(services: Services) -> None:
+    """The reverse of start_services: nothing accepted before this is lost."""
+    services.live.close()
+    await services.bus.stop()
+    await services.properties.close()
+    await services.commands.close()
+    await services.history_maintenance.stop()
+    await services.history.close()
+    await services.store.close()
+
+
 def create_app(
     settings: Settings,
     on_bootstrap: Callable[[Bootstrap], None] | None = None,
@@ -111,15 +137,7 @@ def create_app(
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        await services.store.open()
-        await services.history.open()
-        await services.commands.open()
-        await services.properties.open()
-        await services.bus.start()
-        created = await services.auth.bootstrap(
-            settings.admin_token.get_secret_value() if settings.admin_token else None,
-            settings.admin_password.get_secret_value() if settings.admin_password else None,
-        )
+        created = await start_services(services, settings)
         if created is not None and on_bootstrap is not None:
             on_bootstrap(created)
         cleanup = None
@@ -130,21 +148,13 @@ def create_app(
                 result = await result
             if callable(result):
                 cleanup = result
-        await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
-        services.history_maintenance.start()
         log.info("ready", extra={"event": "ready", "url": settings.base_url})
         try:
             yield
         finally:
             if cleanup is not None:
                 await cleanup()
-            services.live.close()
-            await services.bus.stop()
-            await services.properties.close()
-            await services.commands.close()
-            await services.history_maintenance.stop()
-            await services.history.close()
-            await services.store.close()
+            await stop_services(services)
 
     app = FastAPI(
         title="twinlink",
@@ -162,9 +172,8 @@ def create_app(
     app.state.services = services
     app.state.metrics = metrics
     problems.install(app)
-    for module in (system, auth, twins, devices, device_ws, live, history_api, search, pages):
-        app.include_router(module.router)
-    for module in (commands, properties):
+    routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
+    for module in (*routers, search, pages):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)
