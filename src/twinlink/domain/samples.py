@@ -155,12 +155,16 @@ def _read_sample(
     time_ns = _read_time(sample.get("time"), scale)
     if schema.is_open:
         for name, value in values.items():
-            _check_plain(name, value)
+            # The common case inline (a known name and a finite float): this runs per value.
+            if type(value) is not float or value - value != 0.0 or name not in _GOOD_NAMES:
+                _check_plain(name, value)
         return time_ns, values, 0
     return time_ns, *_check_schema(values, schema)
 
 
 def _read_time(raw: Any, scale: int) -> int | None:
+    if type(raw) is int and _EARLIEST_NS <= raw * scale <= _LATEST_NS:  # the common case
+        return raw * scale
     if raw is None:
         return None
     if type(raw) is int:
@@ -183,9 +187,24 @@ def _read_time(raw: Any, scale: int) -> int | None:
     return time_ns
 
 
-def _check_plain(name: Any, value: Any) -> None:
+# Signal names already found valid: a set lookup instead of a regex per value on the hot
+# path. Bounded, so names from a misbehaving device cannot grow it without limit.
+_GOOD_NAMES: set[str] = set()
+_GOOD_NAMES_MAX = 100_000
+
+
+def _check_name(name: Any) -> None:
+    if name in _GOOD_NAMES:
+        return
     if not isinstance(name, str) or not SIGNAL_NAME.match(name):
         raise ValueError(f"signal name {name!r} must match {SIGNAL_NAME.pattern}")
+    if len(_GOOD_NAMES) >= _GOOD_NAMES_MAX:
+        _GOOD_NAMES.clear()
+    _GOOD_NAMES.add(name)
+
+
+def _check_plain(name: Any, value: Any) -> None:
+    _check_name(name)
     kind = type(value)
     if kind is float:
         if not math.isfinite(value):
