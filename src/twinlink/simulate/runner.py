@@ -97,12 +97,12 @@ def _tingen_handlers(device: AsyncDevice, model: TingenModel, pace: Pace) -> Non
         return {"sample_rate": pace.rate_hz}
 
     @device.on_desired
-    def desired(changed: dict[str, Any]) -> None:
+    async def desired(changed: dict[str, Any]) -> None:
         if "sample_rate" in changed:
             pace.rate_hz = _rate(changed["sample_rate"])
         if "filter_k" in changed:
             model.k = min(1.0, max(0.0, float(changed["filter_k"])))
-        asyncio.get_running_loop().create_task(_report(device, model, pace))
+        await _report(device, model, pace)
 
 
 def _rate(value: Any) -> float:
