@@ -265,8 +265,8 @@ def devices() -> None:
 def devices_ls(ctx: click.Context, slug: str) -> None:
     """List a twin's devices (never their tokens)."""
     for d in client_for(ctx).json("GET", f"/api/v1/twins/{slug}/devices")["devices"]:
-        seen = d["last_seen"] or "never seen"
-        click.echo(f"{d['name']:<24} {d['token_prefix']}…  {seen}  {d['description']}".rstrip())
+        seen = "connected" if d.get("connected") else d["last_seen"] or "never seen"
+        click.echo(f"{d['name']:<24} {d['token_prefix']}…  {seen:<24}  {d['description']}".rstrip())
 
 
 @devices.command("add")

@@ -280,3 +280,17 @@ def test_users_add_ls_set_rm(cli: Cli) -> None:
     assert "bob" not in users
     again = cli("users", "rm", "bob")
     assert again.code != 0 and "Traceback" not in again.err and "bob" in again.err
+
+
+def test_devices_ls_says_which_devices_are_connected(cli: Cli) -> None:
+    from tests.integration._live import device_socket, device_twin, receive
+
+    slug, (token,) = device_twin(cli.server)
+    cli("devices", "add", slug, "spare").ok()
+    assert "never seen" in cli("devices", "ls", slug).ok().out
+    with device_socket(cli.server, token) as ws:
+        receive(ws, "welcome")
+        listed = {
+            line.split()[0]: line for line in cli("devices", "ls", slug).ok().out.splitlines()
+        }
+    assert "connected" in listed["dev0"] and "never seen" in listed["spare"]
