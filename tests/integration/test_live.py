@@ -289,7 +289,7 @@ def test_bad_messages_get_errors_and_the_connection_stays_usable(server: Server,
         assert recv(ws) == {
             "type": "error",
             "op": "fly",
-            "message": "unknown op 'fly'; expected one of subscribe, unsubscribe, ping",
+            "message": "unknown op 'fly'; expected one of subscribe, unsubscribe, command, ping",
         }
         ws.send(b'{"op": "subscribe", "id": "a", "twin": "' + slug.encode() + b'", "max_rate": -1}')
         assert recv(ws)["message"].startswith('"max_rate" must be a number')

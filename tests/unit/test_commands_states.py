@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import asyncio
+import base64
 import sqlite3
+import time
 from collections.abc import Callable
 from typing import Any
 
 import pytest
 
 from twinlink.commands.db import WriteBehind, command_row, record_from_row
-from twinlink.commands.model import CommandRecord, new_command_id
+from twinlink.commands.model import CommandRecord, iso_time, new_command_id
 from twinlink.commands.state import DeviceProperties
+from twinlink.registry.build import human_time
 
 
 def _record(**changes: Any) -> CommandRecord:
@@ -60,6 +63,21 @@ def test_offline_failure_and_bad_status() -> None:
 def test_ids_are_short_and_distinct() -> None:
     ids = {new_command_id() for _ in range(1000)}
     assert len(ids) == 1000 and all(len(i) == 16 for i in ids)
+
+
+def test_ids_begin_with_the_millisecond_they_were_made() -> None:
+    before = time.time_ns() // 1_000_000
+    made = new_command_id()
+    after = time.time_ns() // 1_000_000
+    assert before <= int.from_bytes(base64.urlsafe_b64decode(made)[:6], "big") <= after
+
+
+@pytest.mark.parametrize(
+    "ns", [1_732_200_000_123_000_000, 0, 4_102_444_799_999_000_000, 1_732_200_000_000_000_000]
+)
+def test_times_are_shown_as_the_rest_of_the_api_shows_them(ns: int) -> None:
+    assert iso_time(ns) == human_time(ns)
+    assert iso_time(ns + 999_999) == human_time(ns)  # milliseconds, truncated
 
 
 def test_rows_round_trip() -> None:

@@ -122,7 +122,10 @@ async def test_unsubscribe_stops_delivery_and_leaves_the_hub() -> None:
     [
         ("{not json", "the message is not JSON"),
         ("[1, 2]", 'a message is a JSON object with an "op"'),
-        ('{"op": "dance"}', "unknown op 'dance'; expected one of subscribe, unsubscribe, ping"),
+        (
+            '{"op": "dance"}',
+            "unknown op 'dance'; expected one of subscribe, unsubscribe, command, ping",
+        ),
         ('{"op": "subscribe", "twin": "rig"}', '"id" must be a string of 1 to 64 characters'),
         ('{"op": "subscribe", "id": "a"}', '"twin" must be the slug of a twin'),
         ('{"op": "subscribe", "id": "a", "twin": "rig", "stream": "Bad!"}', '"stream" must'),

@@ -170,7 +170,7 @@ async def delete_user(
     user = await auth.require_user(username)
     if caller.user is not None and user.id == caller.user.id and not force:
         raise ForbiddenError("refusing to delete yourself; pass force=true if you mean it")
-    if not await auth.store.delete_user(user.id):
+    if not await auth.delete_user(user):
         raise NotFoundError(f"no user named {username!r}")
     return {"deleted": username}
 

@@ -1,9 +1,11 @@
-"""GET /api/v1/live: the WebSocket on which browsers and scripts watch streams live
-(docs/protocol.md, "Live streams for clients").
+"""GET /api/v1/live: the WebSocket on which browsers and scripts watch streams live and send
+commands (docs/protocol.md, "Live streams for clients").
 
-Each connection runs two tasks. The reader acts on the client's messages one at a time and
-checks the token again every `RECHECK_S`; the writer drains the connection's outbox into the
-socket. A slow socket blocks only its own writer, so only its own outbox fills (and drops).
+Each connection runs three tasks. The reader acts on the client's messages one at a time (a
+`command` op only starts there: it runs in a task of its own); the checker checks the token and
+the subscriptions again every `RECHECK_S`, never while the reader is acting on a message (they
+share a lock); the writer drains the connection's outbox into the socket. A slow socket blocks
+only its own writer, so only its own outbox fills (and drops).
 """
 
 from __future__ import annotations
@@ -59,6 +61,7 @@ async def live_socket(websocket: WebSocket) -> None:
         auth=services.auth,
         registry=services.registry,
         latest=_latest_reader(services.history),
+        commands=services.commands,
     )
     outbox.put_control(protocol.welcome(principal.user.username, outbox.capacity))
     user = principal.user.username
@@ -76,17 +79,23 @@ async def live_socket(websocket: WebSocket) -> None:
 
 
 async def _serve(websocket: WebSocket, session: LiveSession) -> BaseException | None:
-    """Run reader and writer until either ends; returns the exception that ended one, if any."""
-    reader = asyncio.create_task(_read(websocket, session))
-    writer = asyncio.create_task(_write(websocket, session.outbox))
+    """Run reader, checker and writer until one ends; returns the exception that ended one,
+    if any."""
+    turn = asyncio.Lock()
+    tasks = (
+        asyncio.create_task(_read(websocket, session, turn)),
+        asyncio.create_task(_check(session, turn)),
+        asyncio.create_task(_write(websocket, session.outbox)),
+    )
     try:
-        await asyncio.wait({reader, writer}, return_when=asyncio.FIRST_COMPLETED)
+        await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
     finally:
-        reader.cancel()
-        writer.cancel()
-        await asyncio.gather(reader, writer, return_exceptions=True)
+        for task in tasks:
+            task.cancel()
+        await asyncio.gather(*tasks, return_exceptions=True)
+        await session.stop_commands()
         session.close()
-    for task in (reader, writer):
+    for task in tasks:
         if not task.cancelled() and task.exception() is not None:
             return task.exception()
     return None
@@ -121,30 +130,24 @@ async def _first_message_token(websocket: WebSocket) -> str:
         raise AuthError(str(err)) from None
 
 
-async def _read(websocket: WebSocket, session: LiveSession) -> None:
-    loop = asyncio.get_running_loop()
-    next_check = loop.time() + RECHECK_S
-    receiving: asyncio.Future[Any] | None = None
-    try:
-        while True:
-            if loop.time() >= next_check:
-                await session.recheck()
-                next_check = loop.time() + RECHECK_S
-            # Back-pressure: a client that does not read its answers is not read either.
-            await session.outbox.control_room()
-            if receiving is None:
-                receiving = asyncio.ensure_future(websocket.receive())
-            done, _ = await asyncio.wait({receiving}, timeout=next_check - loop.time())
-            if not done:
-                continue
-            frame = receiving.result()
-            receiving = None
-            if frame["type"] == "websocket.disconnect":
-                return
+async def _read(websocket: WebSocket, session: LiveSession, turn: asyncio.Lock) -> None:
+    while True:
+        # Back-pressure: a client that does not read its answers is not read either.
+        await session.outbox.control_room()
+        frame = await websocket.receive()
+        if frame["type"] == "websocket.disconnect":
+            return
+        async with turn:
             await session.handle(_payload(frame))
-    finally:
-        if receiving is not None:
-            receiving.cancel()
+
+
+async def _check(session: LiveSession, turn: asyncio.Lock) -> None:
+    """Check the token and the subscriptions again every RECHECK_S, also while the client is
+    silent; AuthError ends the connection."""
+    while True:
+        await asyncio.sleep(RECHECK_S)
+        async with turn:
+            await session.recheck()
 
 
 async def _write(websocket: WebSocket, outbox: Outbox) -> None:

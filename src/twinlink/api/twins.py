@@ -11,7 +11,7 @@ from twinlink.api._body import DOCUMENT_BODY, read_documents
 from twinlink.api.deps import Caller, Registry
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.rights import has_role, may_see_level
-from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
+from twinlink.domain.errors import ForbiddenError
 from twinlink.registry.build import human_time
 from twinlink.registry.service import Applied, RegistryService
 from twinlink.store.records import ROLES, TwinRecord
@@ -167,35 +167,11 @@ async def list_roles(slug: str, caller: Caller, reg: Registry) -> dict[str, Any]
 async def grant_role(
     slug: str, username: str, body: RoleBody, caller: Caller, reg: Registry
 ) -> dict[str, Any]:
-    twin, user_id = await _role_target(reg, caller, slug, username)
-    await _keep_an_owner(reg, twin, user_id, body.role)
-    await reg.store.set_role(twin.id, user_id, body.role)
+    await reg.set_role(caller, slug, username, body.role)
     return {"username": username, "role": body.role}
 
 
 @router.delete("/twins/{slug}/roles/{username}", summary="Take a role away (owners only)")
 async def revoke_role(slug: str, username: str, caller: Caller, reg: Registry) -> dict[str, Any]:
-    twin, user_id = await _role_target(reg, caller, slug, username)
-    await _keep_an_owner(reg, twin, user_id, None)
-    await reg.store.set_role(twin.id, user_id, None)
+    await reg.set_role(caller, slug, username, None)
     return {"username": username, "role": None}
-
-
-async def _role_target(
-    reg: RegistryService, caller: Any, slug: str, username: str
-) -> tuple[TwinRecord, int]:
-    twin, role = await reg.require_twin(caller, slug)
-    if not has_role(caller, role, "owner"):
-        raise ForbiddenError(f"granting roles on {slug!r} needs the owner role")
-    user = await reg.store.get_user_by_name(username)
-    if user is None:
-        raise NotFoundError(f"no user named {username!r}")
-    return twin, user.id
-
-
-async def _keep_an_owner(
-    reg: RegistryService, twin: TwinRecord, user_id: int, new_role: str | None
-) -> None:
-    owners = [uid for uid, _, role in await reg.store.list_roles(twin.id) if role == "owner"]
-    if owners == [user_id] and new_role != "owner":
-        raise ConflictError(f"{twin.slug!r} would have no owner left; grant another owner first")

@@ -61,22 +61,31 @@ class DeviceService:
         if await self.store.get_device(twin.id, name) is not None:
             raise ConflictError(f"twin {slug!r} already has a device {name!r}")
         token = new_device_token()
-        device = await self.store.create_device(
-            twin.id, name, description, hash_token(token), token_prefix(token), now_ns()
-        )
+        try:
+            device = await self.store.create_device(
+                twin.id, name, description, hash_token(token), token_prefix(token), now_ns()
+            )
+        finally:
+            self.registry.changed()  # the devices commands may go to (CommandService)
         return device, token
 
     async def rotate(self, principal: Principal, slug: str, name: str) -> tuple[Device, str]:
         """A new token for the device; the old one stops working at once."""
         device = await self._device(principal, slug, name, "editor")
         token = new_device_token()
-        await self.store.set_device_token(device.id, hash_token(token), token_prefix(token))
+        try:
+            await self.store.set_device_token(device.id, hash_token(token), token_prefix(token))
+        finally:
+            self.registry.changed()
         device.prefix = token_prefix(token)
         return device, token
 
     async def delete(self, principal: Principal, slug: str, name: str) -> None:
         device = await self._device(principal, slug, name, "editor")
-        await self.store.delete_device(device.id)
+        try:
+            await self.store.delete_device(device.id)
+        finally:
+            self.registry.changed()
 
     async def authenticate(self, token: str) -> Device:
         device = await self.store.find_device(hash_token(token))

@@ -1,9 +1,18 @@
-"""Users, logins and API tokens."""
+"""Users, logins and API tokens.
+
+A token's record and its user are cached for `TOKEN_CACHE_S` after a lookup, so a request
+does not wait for the store to learn who sent it. Every change that could make a cached
+answer wrong (a token revoked, a user changed, disabled or deleted) empties the cache once it
+is written; expiry is checked on every use. One server process owns the store, so nothing
+changes it behind this cache (the time limit is a second line of defence, not the first).
+"""
 
 from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from twinlink.auth.rights import Principal
@@ -21,6 +30,8 @@ from twinlink.store.records import ApiToken, User
 
 log = logging.getLogger("twinlink.auth")
 ADMIN_USERNAME = "admin"
+TOKEN_CACHE_S = 30.0
+TOKEN_CACHE_LIMIT = 10_000
 
 
 class AuthError(Exception):
@@ -54,6 +65,31 @@ class AuthService:
     def __init__(self, store: MetadataStore, session_ttl_s: int) -> None:
         self.store = store
         self.session_ttl_ns = session_ttl_s * 1_000_000_000
+        # token hash -> (token, user, when cached: monotonic s); see the module's doc
+        self._tokens: dict[bytes, tuple[ApiToken, User, float]] = {}
+        self.generation = 0  # bumped after every change of tokens or users
+
+    @contextmanager
+    def _changing(self) -> Iterator[None]:
+        """Around a change of tokens or users: afterwards (even a failed one), no cached
+        token answer survives, nor one read while the change was underway."""
+        try:
+            yield
+        finally:
+            self.generation += 1
+            self._tokens.clear()
+
+    async def _find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None:
+        cached = self._tokens.get(token_hash)
+        if cached is not None and time.monotonic() - cached[2] < TOKEN_CACHE_S:
+            return cached[0], cached[1]
+        read_at = self.generation
+        found = await self.store.find_token(token_hash)
+        if found is not None and read_at == self.generation:  # unknown tokens are not kept
+            if len(self._tokens) >= TOKEN_CACHE_LIMIT:
+                self._tokens.clear()
+            self._tokens[token_hash] = (found[0], found[1], time.monotonic())
+        return found
 
     async def bootstrap(
         self, admin_token: str | None, admin_password: str | None
@@ -86,7 +122,7 @@ class AuthService:
         return created
 
     async def authenticate(self, token: str) -> Principal:
-        found = await self.store.find_token(hash_token(token))
+        found = await self._find_token(hash_token(token))
         if found is None:
             raise AuthError("the token is not valid")
         record, user = found
@@ -99,6 +135,7 @@ class AuthService:
             raise AuthError("the user is disabled")
         # Record use at most once a minute: a write per request would cost more than the lookup.
         if record.last_used_ns is None or now - record.last_used_ns > 60_000_000_000:
+            record.last_used_ns = now  # the cached record too
             await self.store.touch_token(record.id, now)
         return Principal(user=user, token_id=record.id)
 
@@ -133,7 +170,8 @@ class AuthService:
         record = await self.store.get_token(token_id)
         if record is None or not (principal.is_admin or _owns(principal, record)):
             raise NotFoundError(f"no token {token_id}")
-        await self.store.revoke_token(token_id, now_ns())
+        with self._changing():
+            await self.store.revoke_token(token_id, now_ns())
 
     async def list_tokens(self, principal: Principal, all_users: bool) -> list[ApiToken]:
         assert principal.user is not None
@@ -160,18 +198,24 @@ class AuthService:
         disabled: bool | None = None,
     ) -> User:
         user = await self.require_user(username)
-        if password or disabled:
-            # A new password or a disabled account ends every login session of the user.
-            await self.store.revoke_tokens(user.id, "session", now_ns())
-        updated = await self.store.update_user(
-            user.id,
-            password_hash=hash_password(password) if password else None,
-            is_admin=is_admin,
-            groups=groups,
-            disabled=disabled,
-        )
+        with self._changing():
+            if password or disabled:
+                # A new password or a disabled account ends every login session of the user.
+                await self.store.revoke_tokens(user.id, "session", now_ns())
+            updated = await self.store.update_user(
+                user.id,
+                password_hash=hash_password(password) if password else None,
+                is_admin=is_admin,
+                groups=groups,
+                disabled=disabled,
+            )
         assert updated is not None
         return updated
+
+    async def delete_user(self, user: User) -> bool:
+        """Delete the user with their tokens and roles; False when already gone."""
+        with self._changing():
+            return await self.store.delete_user(user.id)
 
     async def require_user(self, username: str) -> User:
         user = await self.store.get_user_by_name(username)

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import base64
 import secrets
+import time
 from dataclasses import dataclass
 from typing import Any, Literal
-
-from twinlink.registry.build import human_time, human_time_or_none
 
 State = Literal["pending", "delivered", "succeeded", "failed", "expired"]
 STATES: tuple[State, ...] = ("pending", "delivered", "succeeded", "failed", "expired")
@@ -21,19 +20,42 @@ OPEN_STATES = frozenset({"pending", "delivered"})
 OFFLINE = "device offline"
 
 
-_ID_BYTES = 12
+_RANDOM_BYTES = 6
 _random = bytearray()
 
 
 def new_command_id() -> str:
-    """96 random bits, URL-safe: short, and not guessable from other ids. The bytes come from
-    the OS generator a few kilobytes at a time, not one system call per command."""
+    """16 URL-safe characters: the millisecond it was made (48 bits) and 48 random bits.
+    Commands made together sit together in the command log's primary key, so writing the log
+    stays as fast when it holds millions of commands as when it is new (random ids scatter the
+    writes over the whole index: three times slower at a million); the random half makes an id
+    not guessable from another. The random bytes come from the OS generator a few kilobytes at
+    a time, not one system call per command."""
     global _random
     if not _random:
-        _random = bytearray(secrets.token_bytes(_ID_BYTES * 256))
-    chunk = bytes(_random[-_ID_BYTES:])
-    del _random[-_ID_BYTES:]
+        _random = bytearray(secrets.token_bytes(_RANDOM_BYTES * 512))
+    chunk = (time.time_ns() // 1_000_000).to_bytes(6, "big") + _random[-_RANDOM_BYTES:]
+    del _random[-_RANDOM_BYTES:]
     return base64.urlsafe_b64encode(chunk).decode()
+
+
+_seconds: dict[int, str] = {}  # whole seconds -> their ISO text, for the few seconds in use
+
+
+def iso_time(ns: int) -> str:
+    """`2026-11-21T10:00:00.123Z`: the form of `registry.build.human_time` (milliseconds,
+    truncated), a few times faster, since a command's view shows four times."""
+    second, rest = divmod(ns, 1_000_000_000)
+    text = _seconds.get(second)
+    if text is None:
+        if len(_seconds) >= 64:
+            _seconds.clear()
+        text = _seconds[second] = time.strftime("%Y-%m-%dT%H:%M:%S", time.gmtime(second))
+    return f"{text}.{rest // 1_000_000:03d}Z"
+
+
+def _iso_or_none(ns: int | None) -> str | None:
+    return None if ns is None else iso_time(ns)
 
 
 @dataclass(slots=True)
@@ -120,10 +142,10 @@ class CommandRecord:
             "state": self.state,
             "queued": self.queued,
             "sent_by": self.sent_by,
-            "created": human_time(self.created_ns),
-            "expires": human_time(self.expires_ns),
-            "delivered": human_time_or_none(self.delivered_ns),
-            "finished": human_time_or_none(self.finished_ns),
+            "created": iso_time(self.created_ns),
+            "expires": iso_time(self.expires_ns),
+            "delivered": _iso_or_none(self.delivered_ns),
+            "finished": _iso_or_none(self.finished_ns),
             "result": self.result,
             "error": self.error,
             "late_status": self.late_status,

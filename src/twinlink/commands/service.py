@@ -39,6 +39,7 @@ from twinlink.domain.errors import (
     NotFoundError,
 )
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
+from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
 from twinlink.store.records import Device, TwinRecord
 from twinlink.store.sqlite.history import SqliteHistory
@@ -70,6 +71,10 @@ class CommandService:
         self.reader = ReadConnection(history.path)
         self.log = WriteBehind(history.write)
         self.rules = InterfaceRules(registry)
+        # The devices of each twin by name, until a device (or twin) is added or removed.
+        self._devices: GenerationCache[int, dict[str, Device]] = GenerationCache(
+            lambda: registry.generation
+        )
         self._live: dict[str, _Live] = {}
         self._by_device: defaultdict[int, dict[str, _Live]] = defaultdict(dict)
         self._polls: defaultdict[int, set[asyncio.Future[None]]] = defaultdict(set)
@@ -139,7 +144,9 @@ class CommandService:
         if queue:
             await self.log.sync()  # a queued command survives a restart
         if wait:
-            await asyncio.shield(live.done)
+            # Only this call waits on `done`: a caller that goes away (cancelled) cancels it,
+            # which stops nothing; the command goes on and `_settle` skips a done future.
+            await live.done
         return record
 
     async def list_commands(
@@ -174,21 +181,28 @@ class CommandService:
         return twin
 
     async def _target(self, twin: TwinRecord, name: str | None) -> Device:
-        store = self.registry.store
+        devices = await self._devices_of(twin.id)
         if name is not None:
-            found = await store.get_device(twin.id, name)
+            found = devices.get(name)
             if found is None:
                 raise NotFoundError(f"twin {twin.slug!r} has no device {name!r}")
             return found
-        devices = await store.list_devices(twin.id)
         if not devices:
             raise ConflictError(f"twin {twin.slug!r} has no devices; add one first")
         if len(devices) > 1:
-            names = ", ".join(d.name for d in devices)
+            names = ", ".join(devices)
             raise InvalidInputError(
                 f"twin {twin.slug!r} has several devices ({names}); name one with `device`"
             )
-        return devices[0]
+        return next(iter(devices.values()))
+
+    async def _devices_of(self, twin_id: int) -> dict[str, Device]:
+        devices = self._devices.get(twin_id)
+        if devices is None:
+            read_at = self._devices.generation()
+            devices = {d.name: d for d in await self.registry.store.list_devices(twin_id)}
+            self._devices.keep(twin_id, devices, read_at)
+        return devices
 
     async def _find(self, command_id: str) -> CommandRecord | None:
         live = self._live.get(command_id)

@@ -19,19 +19,37 @@ from twinlink.live.subscription import Subscription
 MAX_CLIENT_MESSAGE = 64 * 1024  # bytes; a subscribe with 1 000 signal names fits easily
 MAX_SUBSCRIPTIONS = 100  # per connection
 MAX_SIGNALS = 1_000  # per subscription
-MAX_ID = 64  # characters of a subscription id
+MAX_ID = 64  # characters of a subscription (or command op) id
 MAX_RATE = 1_000_000_000.0  # samples per second; above this max_rate would keep every sample
 DEFAULT_STREAM = "telemetry"
-OPS = ("subscribe", "unsubscribe", "ping")
+MAX_COMMANDS = 256  # command ops of one connection under way at once
+OPS = ("subscribe", "unsubscribe", "command", "ping")
 
 
 class ClientError(ValueError):
     """A client message the server cannot act on; answered with an `error` message."""
 
-    def __init__(self, message: str, op: str | None = None, sub: str | None = None) -> None:
+    def __init__(
+        self, message: str, op: str | None = None, sub: str | None = None, status: int = 0
+    ) -> None:
         super().__init__(message)
         self.op = op
         self.sub = sub
+        self.status = status  # the HTTP status the same refusal would have (commands only)
+
+
+@dataclass(frozen=True, slots=True)
+class CommandRequest:
+    """A `command` op: the fields of POST /api/v1/twins/{twin}/commands, and the op's id."""
+
+    id: str
+    twin: str
+    name: str
+    args: dict[str, Any] | None = None
+    device: str | None = None
+    timeout_s: float | None = None
+    queue: bool = False
+    wait: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,7 +73,7 @@ def read_message(raw: str | bytes) -> dict[str, Any]:
         raise ClientError('a message is a JSON object with an "op"')
     op = message.get("op")
     if not isinstance(op, str):
-        raise ClientError('a message needs an "op": subscribe, unsubscribe or ping')
+        raise ClientError(f'a message needs an "op": one of {", ".join(OPS)}')
     return message
 
 
@@ -91,6 +109,34 @@ def read_subscribe(message: dict[str, Any]) -> SubscribeRequest:
         raise ClientError(f'"stream" must match {STREAM_NAME.pattern}', "subscribe", sub)
     return SubscribeRequest(
         sub, twin, stream, _read_signals(message.get("signals"), sub), _read_rate(message, sub)
+    )
+
+
+def read_command(message: dict[str, Any]) -> CommandRequest:
+    """A `command` op; ClientError (status 422) names the first field that is wrong."""
+    op_id = read_sub_id(message)
+
+    def wrong(text: str) -> ClientError:
+        return ClientError(text, "command", op_id, 422)
+
+    twin, name = message.get("twin"), message.get("name")
+    if not isinstance(twin, str) or not twin:
+        raise wrong('"twin" must be the slug of a twin')
+    if not isinstance(name, str) or not name:
+        raise wrong('"name" must be the name of a command')
+    args, device = message.get("args"), message.get("device")
+    if args is not None and not isinstance(args, dict):
+        raise wrong('"args" must be an object of argument name -> value')
+    if device is not None and not isinstance(device, str):
+        raise wrong('"device" must be the name of a device of the twin')
+    timeout = message.get("timeout_s")
+    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, int | float)):
+        raise wrong('"timeout_s" must be a number of seconds')
+    queue, wait = message.get("queue", False), message.get("wait", True)
+    if not isinstance(queue, bool) or not isinstance(wait, bool):
+        raise wrong('"queue" and "wait" must be true or false')
+    return CommandRequest(
+        op_id, twin, name, args, device, None if timeout is None else float(timeout), queue, wait
     )
 
 
@@ -144,6 +190,7 @@ def welcome(user: str, queue_messages: int) -> dict[str, Any]:
             "signals": MAX_SIGNALS,
             "message_bytes": MAX_CLIENT_MESSAGE,
             "queue_messages": queue_messages,
+            "commands": MAX_COMMANDS,
         },
     }
 
@@ -180,7 +227,14 @@ def error(err: ClientError) -> dict[str, Any]:
         out["op"] = err.op
     if err.sub is not None:
         out["id"] = err.sub
+    if err.status:
+        out["status"] = err.status
     return out
+
+
+def command(op_id: str, view: dict[str, Any]) -> dict[str, Any]:
+    """The answer to a `command` op: the command as the HTTP API shows it."""
+    return {"type": "command", "id": op_id, "command": view}
 
 
 def dropped(sub: str, messages: int, samples: int) -> dict[str, Any]:

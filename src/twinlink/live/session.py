@@ -2,7 +2,8 @@
 
 The session knows nothing of WebSockets: it reads client frames (`handle`), keeps the hub
 informed, and puts every answer in the connection's `Outbox`. Its methods run one at a time
-in the connection's reader task, so the subscriptions change in one place only.
+(the connection's reader and its periodic check take turns), so the subscriptions change in
+one place only; `command` ops are started there and run beside it (`CommandOps`).
 """
 
 from __future__ import annotations
@@ -13,9 +14,10 @@ from typing import Any, Protocol
 from twinlink.auth.rights import Principal
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.live import protocol
+from twinlink.live.commands import CommandOps, CommandSender
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
-from twinlink.live.protocol import ClientError, SubscribeRequest
+from twinlink.live.protocol import ClientError, CommandRequest, SubscribeRequest
 from twinlink.live.subscription import Subscription
 from twinlink.store.records import TwinRecord
 
@@ -55,6 +57,7 @@ class LiveSession:
         auth: Authenticator,
         registry: TwinFinder,
         latest: LatestReader = no_latest,
+        commands: CommandSender | None = None,
     ) -> None:
         self.token = token
         self.principal = principal
@@ -64,6 +67,7 @@ class LiveSession:
         self.registry = registry
         self.latest = latest
         self.subs: dict[str, Subscription] = {}
+        self.commands = None if commands is None else CommandOps(commands, outbox)
 
     async def handle(self, raw: str | bytes) -> None:
         """Act on one client frame. A token found invalid raises AuthError (close 4401);
@@ -79,6 +83,8 @@ class LiveSession:
             await self.subscribe(protocol.read_subscribe(message))
         elif op == "unsubscribe":
             self.unsubscribe(protocol.read_sub_id(message))
+        elif op == "command":
+            await self.command(protocol.read_command(message))
         elif op == "ping":
             self.outbox.put_control(protocol.pong(message))
         elif op == "auth":
@@ -123,6 +129,14 @@ class LiveSession:
         self.outbox.put_control(protocol.subscribed(sub, latest))
         sub.started = True
 
+    async def command(self, request: CommandRequest) -> None:
+        if self.commands is None:
+            raise ClientError("commands are not available here", "command", request.id)
+        # Each command checks the token again (a cached answer: see AuthService), so a revoked
+        # one is noticed at once; the rights on the twin are CommandService's to check.
+        self.principal = await self.auth.authenticate(self.token)
+        await self.commands.start(self.principal, request)
+
     def unsubscribe(self, sub_id: str) -> None:
         sub = self.subs.get(sub_id)
         if sub is None:
@@ -155,6 +169,10 @@ class LiveSession:
 
     def close(self) -> None:
         """The connection ended: leave the hub (the last watcher of a stream ends its bus
-        subscription)."""
+        subscription). `stop_commands` ends the command ops."""
         for sub in list(self.subs.values()):
             self._end(sub)
+
+    async def stop_commands(self) -> None:
+        if self.commands is not None:
+            await self.commands.close()

@@ -1,5 +1,10 @@
-"""The registry's entry points: apply, read, list, delete and relations, with the rights
-checks that go with each."""
+"""The registry's entry points: apply, read, list, delete, roles and relations, with the rights
+checks that go with each.
+
+Twins by slug and roles by (twin, user) are cached (`GenerationCache`) until the next change:
+every write here bumps `generation` once it is done, and so do the other services whose changes
+derived data depends on (`changed()`).
+"""
 
 from __future__ import annotations
 
@@ -12,10 +17,11 @@ from twinlink.auth.rights import Principal, has_role, may_see_level
 from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.apply import Applied, Applier, Mode
+from twinlink.registry.cache import GenerationCache
 from twinlink.registry.documents import group_by_twin
 from twinlink.registry.views import render_document
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import Edge, TwinRecord
+from twinlink.store.records import Edge, TwinRecord, User
 
 __all__ = ["Applied", "RegistryService"]
 
@@ -28,11 +34,23 @@ class RegistryService:
         # Plans read the registry and the write then relies on what they read; one change at
         # a time in this process keeps that sound (the store refuses cycles on its own too).
         self._write_lock = asyncio.Lock()
-        # Bumped by every change, so caches of derived data (ingest's interface rules) can
-        # tell they are stale without a query.
+        # Bumped after every change, so caches of derived data (twins and roles here, ingest's
+        # interface rules, the devices commands go to) can tell they are stale without a query.
         self.generation = 0
         # Called with the ids of deleted twins, so other stores can drop what they hold.
         self.deleted_listeners: list[Callable[[list[int]], None]] = []
+        self._twins: GenerationCache[str, TwinRecord] = GenerationCache(self._generation)
+        # Keyed by the user's creation time too: a deleted user's id may be given again.
+        # No role is cached as "".
+        self._roles: GenerationCache[tuple[int, int, int], str] = GenerationCache(self._generation)
+
+    def _generation(self) -> int:
+        return self.generation
+
+    def changed(self) -> None:
+        """Something twins, roles or devices depend on has changed (call it after the write):
+        every cache of derived data starts again."""
+        self.generation += 1
 
     def canonical_url(self, slug: str) -> str:
         return f"{self.base_url}/twins/{slug}"
@@ -54,19 +72,37 @@ class RegistryService:
             try:
                 return await self.applier.apply(principal, groups, slug, mode)
             finally:
-                self.generation += 1
+                self.changed()
 
     # -- read ----------------------------------------------------------------------------
 
     async def role_of(self, principal: Principal, twin: TwinRecord) -> str | None:
-        if principal.user is None:
+        user = principal.user
+        if user is None:
             return None
-        return await self.store.get_role(twin.id, principal.user.id)
+        key = (twin.id, user.id, user.created_ns)
+        role = self._roles.get(key)
+        if role is None:
+            read_at = self._roles.generation()
+            role = await self.store.get_role(twin.id, user.id) or ""
+            self._roles.keep(key, role, read_at)
+        return role or None
+
+    async def get_twin(self, slug: str) -> TwinRecord | None:
+        """The twin of `slug`, or None; no rights checked. Records are shared: do not change
+        them."""
+        twin = self._twins.get(slug)
+        if twin is None:
+            read_at = self._twins.generation()
+            twin = await self.store.get_twin(slug)
+            if twin is not None:  # unknown slugs are not kept: anyone may ask for any number
+                self._twins.keep(slug, twin, read_at)
+        return twin
 
     async def require_twin(self, principal: Principal, slug: str) -> tuple[TwinRecord, str | None]:
         """The twin, if the caller may see any part of it; otherwise NotFoundError (a twin the
         caller may not see is not admitted to exist)."""
-        twin = await self.store.get_twin(slug)
+        twin = await self.get_twin(slug)
         if twin is None:
             raise NotFoundError(f"no twin {slug!r}")
         role = await self.role_of(principal, twin)
@@ -137,8 +173,11 @@ class RegistryService:
             plan = await self.applier.plan_write(
                 principal, twin, twin.slug, twin.dt_id, parts, twin.created_ns
             )
-            self.generation += 1
-            return (await self.applier.write([plan]))[0].twin
+            self.changed()
+            try:
+                return (await self.applier.write([plan]))[0].twin
+            finally:
+                self.changed()
 
     # -- delete --------------------------------------------------------------------------
 
@@ -166,11 +205,42 @@ class RegistryService:
                         f"deleting {child.slug!r} (a descendant) needs the owner role"
                     )
                 doomed.append(child)
-            self.generation += 1
-            await self.store.delete_twins(doomed)
+            self.changed()
+            try:
+                await self.store.delete_twins(doomed)
+            finally:
+                self.changed()
             for listener in self.deleted_listeners:
                 listener([t.id for t in doomed])
             return [t.slug for t in doomed]
+
+    # -- roles ---------------------------------------------------------------------------
+
+    async def set_role(
+        self, principal: Principal, slug: str, username: str, role: str | None
+    ) -> None:
+        """Grant `role` on the twin to `username`, or take their role away (None); owners and
+        admins only. The last owner keeps the role until another is granted it."""
+        async with self._write_lock:
+            twin, own = await self.require_twin(principal, slug)
+            if not has_role(principal, own, "owner"):
+                raise ForbiddenError(f"granting roles on {slug!r} needs the owner role")
+            user = await self._user(username)
+            owners = [uid for uid, _, r in await self.store.list_roles(twin.id) if r == "owner"]
+            if owners == [user.id] and role != "owner":
+                raise ConflictError(
+                    f"{twin.slug!r} would have no owner left; grant another owner first"
+                )
+            try:
+                await self.store.set_role(twin.id, user.id, role)
+            finally:
+                self.changed()
+
+    async def _user(self, username: str) -> User:
+        user = await self.store.get_user_by_name(username)
+        if user is None:
+            raise NotFoundError(f"no user named {username!r}")
+        return user
 
     # -- relations -----------------------------------------------------------------------
 
