@@ -22,6 +22,7 @@ from twinlink.domain.samples import (
     read_batch,
     schema_from_interface,
 )
+from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
 from twinlink.store.history import HistoryWriterStore
 from twinlink.store.records import Device
@@ -55,22 +56,21 @@ class IngestService:
         self.registry = registry
         self.history = history
         self.bus = bus
-        self._schemas: dict[int, Schema] = {}
-        self._generation = -1
+        # The interface rules per twin, dropped on any registry change (and not kept when a
+        # change raced the read).
+        self._schemas: GenerationCache[int, Schema] = GenerationCache(lambda: registry.generation)
         self.samples_accepted = 0
         self.samples_rejected = 0
         self.batches_duplicate = 0
 
     async def schema_for(self, twin_id: int) -> Schema:
-        if self._generation != self.registry.generation:
-            self._schemas.clear()
-            self._generation = self.registry.generation
         schema = self._schemas.get(twin_id)
         if schema is None:
+            read_at = self._schemas.generation()
             parts = await self.registry.store.get_parts(twin_id)
             interface = merge_parts(parts).get("interface") if parts else None
             schema = schema_from_interface(interface if isinstance(interface, dict) else None)
-            self._schemas[twin_id] = schema
+            self._schemas.keep(twin_id, schema, read_at)
         return schema
 
     async def ingest(self, device: Device, body: Any) -> Ack:
