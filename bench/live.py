@@ -41,6 +41,7 @@ import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from _live_commands_ws import commands_ws
 from _live_conns import connections
 from _live_fleet import Bench, Fleet, Options, make_fleet
 from _live_history import history
@@ -58,7 +59,7 @@ CASES: dict[str, list[Runner]] = {
     "connections": [connections],
     "ingest": [one_device, many_devices],
     "latency": [latency],
-    "commands": [commands],
+    "commands": [commands, commands_ws],
     "history": [history],
 }
 EXTRA_PACKAGES = ("twinlink-edge", "websockets", "orjson", "numpy")
