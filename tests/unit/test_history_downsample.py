@@ -3,15 +3,12 @@ LTTB, checked against plain computations; peaks must survive."""
 
 from __future__ import annotations
 
-import sqlite3
-
 import numpy as np
 import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
 from twinlink.store.sqlite.history import SqliteHistory
-from twinlink.store.sqlite.history.columns import BlobTimes
 from twinlink.store.sqlite.history.downsample import SUMMARIES_FROM, lttb
 
 
@@ -138,24 +135,3 @@ async def test_text_signals_are_flagged_and_bools_are_numbers(history: SqliteHis
     assert got["mode"].text_only and got["mode"].times.size == 0
     assert not got["on"].text_only
     assert sorted(set(got["on"].values.tolist())) == [0.0, 1.0]
-
-
-async def test_blob_times_search_matches_searchsorted(history: SqliteHistory) -> None:
-    rng = np.random.default_rng(4)
-    even = [T + i * 1000 for i in range(500)]
-    uneven = sorted((T + rng.integers(0, 5000, 500)).tolist())  # gaps and equal times
-    for times in (even, uneven, [T, T + 7], [T, T, T + 1]):
-        await write_column(history, "x", times, [1.0] * len(times), len(times))
-        conn = sqlite3.connect(history.path)
-        try:
-            rowid, n, t0, t1 = conn.execute(
-                "SELECT rowid, n, t0, t1 FROM blocks ORDER BY rowid DESC LIMIT 1"
-            ).fetchone()
-            array = np.asarray(times, dtype=np.int64)
-            with BlobTimes(conn, rowid, n, t0, t1) as stamps:
-                assert [stamps[i] for i in range(n)] == times
-                for edge in [T - 1, *range(T, times[-1] + 2, 7), *times]:
-                    want = int(np.searchsorted(array, edge, side="left"))
-                    assert stamps.search(edge) == want, (edge - T, times[:3])
-        finally:
-            conn.close()

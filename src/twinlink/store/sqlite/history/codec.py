@@ -1,7 +1,8 @@
 """Column-wise blocks: one signal's samples from one batch, packed for storage.
 
 A block keeps its times sorted (stable, so equal times keep arrival order) and carries a
-summary (count, min, max, sum, first, last) so aggregations can use whole blocks unread.
+summary (count, min, max, sum, first, last) so aggregations can use whole blocks unread, and
+where its extremes are (`sketch.py`) so min/max downsampling can too.
 """
 
 from __future__ import annotations
@@ -14,9 +15,10 @@ import numpy.typing as npt
 import orjson
 
 from twinlink.domain.samples import Value
+from twinlink.store.sqlite.history.sketch import summarize
 
 TIME_DTYPE = np.dtype("<i8")
-_DTYPES: dict[str, np.dtype[Any]] = {
+VALUE_DTYPES: dict[str, np.dtype[Any]] = {  # numeric kinds as stored
     "i": np.dtype("<i8"),
     "f": np.dtype("<f8"),
     "b": np.dtype("u1"),
@@ -37,6 +39,26 @@ class Block:
     last_v: Value
     times: bytes
     vals: bytes
+    tmin: int | None = None  # numeric kinds only: the time of vmin (the first of equals)
+    tmax: int | None = None
+    sketch: bytes | None = None  # numeric blocks of more than sketch.CHUNK samples
+
+
+# Named columns: the table gained tmin, tmax and sketch after the others (migration 0003).
+INSERT_BLOCK = (
+    "INSERT INTO blocks (series_id, t0, t1, n, kind, vmin, vmax, vsum, first_v, last_v, "
+    "times, vals, tmin, tmax, sketch) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
+)
+
+
+def block_row(series_id: int, b: Block) -> tuple[Any, ...]:
+    """The parameters of INSERT_BLOCK for one block."""
+    return (series_id, b.t0, b.t1, b.n, b.kind, b.vmin, b.vmax, b.vsum, _sql(b.first_v),
+            _sql(b.last_v), b.times, b.vals, b.tmin, b.tmax, b.sketch)  # fmt: skip
+
+
+def _sql(value: Value) -> Value:
+    return int(value) if isinstance(value, bool) else value
 
 
 def split_signals(
@@ -73,13 +95,16 @@ def encode(signal: str, times: list[int], values: list[Value]) -> Block:
         order = np.argsort(t, kind="stable")
         t = t[order]
         values = [values[i] for i in order]
+    tmin = tmax = sketch_blob = None
     if kind == "j":
         blob = orjson.dumps(values)
         vmin = vmax = vsum = None
     else:
-        v = np.asarray(values, dtype=_DTYPES[kind])
+        v = np.asarray(values, dtype=VALUE_DTYPES[kind])
         blob = v.tobytes()
-        vmin, vmax, vsum = float(v.min()), float(v.max()), float(v.sum(dtype=np.float64))
+        vsum = float(v.sum(dtype=np.float64))
+        floats = v.astype(np.float64, copy=False)
+        vmin, vmax, tmin, tmax, sketch_blob = summarize(t, floats)
     return Block(
         signal=signal,
         t0=int(t[0]),
@@ -93,6 +118,9 @@ def encode(signal: str, times: list[int], values: list[Value]) -> Block:
         last_v=values[-1],
         times=t.tobytes(),
         vals=blob,
+        tmin=tmin,
+        tmax=tmax,
+        sketch=sketch_blob,
     )
 
 
@@ -104,5 +132,5 @@ def decode_values(kind: str, blob: bytes) -> npt.NDArray[Any]:
     """Numeric kinds as numpy arrays (bool as bool); JSON blocks as an object array."""
     if kind == "j":
         return np.asarray(orjson.loads(blob), dtype=object)
-    array: npt.NDArray[Any] = np.frombuffer(blob, dtype=_DTYPES[kind])
+    array: npt.NDArray[Any] = np.frombuffer(blob, dtype=VALUE_DTYPES[kind])
     return array.astype(bool) if kind == "b" else array

@@ -6,8 +6,6 @@ samples with equal times in block order.
 
 from __future__ import annotations
 
-import bisect
-import sqlite3
 from collections.abc import Sequence
 from typing import Any
 
@@ -99,39 +97,3 @@ def numeric_column(blocks: Sequence[NumericBlock], start: int, end: int) -> tupl
     if t.size:
         t, v = clip(t, v, start, end)
     return t, v
-
-
-class BlobTimes:
-    """The times of one block, read from its blob a few at a time instead of fetched whole:
-    enough to find where bucket edges cut a block, and the time of one sample, at a fraction
-    of the cost of reading every time. Use as a context manager."""
-
-    def __init__(self, conn: sqlite3.Connection, rowid: int, n: int, t0: int, t1: int) -> None:
-        self._blob = conn.blobopen("blocks", "times", rowid, readonly=True)
-        self.n, self.t0, self.t1 = n, t0, t1
-
-    def __enter__(self) -> BlobTimes:
-        return self
-
-    def __exit__(self, *_: object) -> None:
-        self._blob.close()
-
-    def __getitem__(self, i: int) -> int:
-        self._blob.seek(8 * i)
-        return int.from_bytes(self._blob.read(8), "little", signed=True)
-
-    def search(self, edge: int) -> int:
-        """The first index whose time is >= edge (n when none): a guess from t0 and t1, right
-        at once for evenly spaced samples (one read), else a binary search."""
-        if edge <= self.t0:
-            return 0
-        if edge > self.t1:
-            return self.n
-        guess = -(-(edge - self.t0) * (self.n - 1) // (self.t1 - self.t0))  # ceil
-        lo = min(max(guess - 1, 0), self.n - 3) if self.n >= 3 else 0
-        self._blob.seek(8 * lo)
-        window = np.frombuffer(self._blob.read(24), dtype=TIME_DTYPE)
-        k = int(np.searchsorted(window, edge, side="left"))
-        if 0 < k < window.size:  # window[k - 1] < edge <= window[k]
-            return lo + k
-        return bisect.bisect_left(self, edge, 1, self.n)

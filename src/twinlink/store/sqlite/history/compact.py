@@ -15,7 +15,13 @@ from dataclasses import dataclass
 from typing import Any
 
 from twinlink.domain.samples import Value
-from twinlink.store.sqlite.history.codec import decode_times, decode_values, encode
+from twinlink.store.sqlite.history.codec import (
+    INSERT_BLOCK,
+    block_row,
+    decode_times,
+    decode_values,
+    encode,
+)
 
 MAX_SAMPLES = 10_000
 MAX_SPAN_NS = 60 * 10**9
@@ -70,11 +76,7 @@ def compact_series(conn: sqlite3.Connection, series_id: int) -> Compacted:
             f"DELETE FROM blocks WHERE rowid IN ({','.join('?' * len(run))})",
             run,
         )
-        conn.execute(
-            "INSERT INTO blocks VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-            (series_id, block.t0, block.t1, block.n, block.kind, block.vmin, block.vmax,
-             block.vsum, _sql(block.first_v), _sql(block.last_v), block.times, block.vals),
-        )  # fmt: skip
+        conn.execute(INSERT_BLOCK, block_row(series_id, block))
         done.blocks_before += len(run)
         done.blocks_after += 1
         done.max_span_ns = max(done.max_span_ns, block.t1 - block.t0)
@@ -102,7 +104,3 @@ def _read_run(conn: sqlite3.Connection, rowids: list[int]) -> tuple[list[int], l
         times.extend(decode_times(time_blob).tolist())
         values.extend(decode_values(kind, value_blob).tolist())
     return times, values
-
-
-def _sql(value: Value) -> Value:
-    return int(value) if isinstance(value, bool) else value

@@ -21,7 +21,13 @@ import orjson
 
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.sqlite.db import migrate
-from twinlink.store.sqlite.history.codec import Block, encode, split_signals
+from twinlink.store.sqlite.history.codec import (
+    INSERT_BLOCK,
+    Block,
+    block_row,
+    encode,
+    split_signals,
+)
 from twinlink.store.sqlite.history.compact import SMALL, Compacted, compact_series
 
 log = logging.getLogger("twinlink.history")
@@ -195,15 +201,11 @@ class HistoryWriter:
         for signal, (times, values) in split_signals(batch.times, batch.values).items():
             block = encode(signal, times, values)
             series_id = self._series_id(conn, batch.twin_id, batch.stream, signal, block)
-            rows.append(
-                (series_id, block.t0, block.t1, block.n, block.kind, block.vmin, block.vmax,
-                 block.vsum, _sql_value(block.first_v), _sql_value(block.last_v), block.times,
-                 block.vals)
-            )  # fmt: skip
+            rows.append(block_row(series_id, block))
             ends.append((series_id, block.t1, block.last_v))
             if block.n < SMALL:
                 self.small_blocks.add(series_id)
-        conn.executemany("INSERT INTO blocks VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        conn.executemany(INSERT_BLOCK, rows)
         for series_id, t1, last in ends:
             known = latest.get(series_id)
             if known is None or t1 >= known[0]:
@@ -264,7 +266,3 @@ class HistoryWriter:
         """Drop cached ids of a twin whose series were deleted (call from a `write` fn)."""
         for key in [k for k in self._series if k[0] == twin_id]:
             del self._series[key]
-
-
-def _sql_value(value: Value) -> Value:
-    return int(value) if isinstance(value, bool) else value
