@@ -20,6 +20,7 @@ from twinlink.api import (
     live,
     pages,
     problems,
+    processors,
     properties,
     search,
     system,
@@ -37,6 +38,9 @@ from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.live import LiveHub
 from twinlink.metrics import DataPlaneCollector, Metrics, MetricsMiddleware
+from twinlink.processors.fmus import FmuService
+from twinlink.processors.metrics import ProcessorCollector
+from twinlink.processors.service import ProcessorService
 from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
@@ -62,6 +66,8 @@ class Services:
     live: LiveHub
     history_service: HistoryService
     history_maintenance: HistoryMaintenance
+    processors: ProcessorService
+    fmus: FmuService
 
 
 def build_services(settings: Settings) -> Services:
@@ -72,6 +78,8 @@ def build_services(settings: Settings) -> Services:
     hub = DeviceHub()
     maintenance = HistoryMaintenance(history, settings.history_retention_days)
     registry.deleted_listeners.append(maintenance.twins_deleted)
+    ingest = IngestService(registry, history, bus)
+    commands = CommandService(registry, history, hub, settings.command_timeout_s)
     return Services(
         store=store,
         auth=AuthService(store, settings.session_ttl_s),
@@ -80,13 +88,17 @@ def build_services(settings: Settings) -> Services:
         devices=DeviceService(store, registry),
         bus=bus,
         history=history,
-        ingest=IngestService(registry, history, bus),
+        ingest=ingest,
         device_hub=hub,
-        commands=CommandService(registry, history, hub, settings.command_timeout_s),
+        commands=commands,
         properties=PropertyService(registry, history, hub),
         live=LiveHub(bus),
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,
+        processors=ProcessorService(
+            store, registry, bus, ingest, commands, settings.data_dir, settings.blueprints_dir
+        ),
+        fmus=FmuService(store, registry, settings.data_dir, settings.fmu_max_mb * 2**20),
     )
 
 
@@ -109,6 +121,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
     await services.bus.start()
     await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
     services.history_maintenance.start()
+    await services.processors.open()
     return await services.auth.bootstrap(
         settings.admin_token.get_secret_value() if settings.admin_token else None,
         settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -117,6 +130,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    await services.processors.close()
     services.live.close()
     await services.bus.stop()
     await services.properties.close()
@@ -134,6 +148,7 @@ def create_app(
     services = build_services(settings)
     metrics = Metrics()
     metrics.registry.register(DataPlaneCollector(lambda: data_plane_figures(services)))
+    metrics.registry.register(ProcessorCollector(services.processors))
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -173,7 +188,8 @@ def create_app(
     app.state.metrics = metrics
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    for module in (*routers, search, pages):
+    routers_more = (processors,)
+    for module in (*routers, *routers_more, search, pages):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

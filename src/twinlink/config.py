@@ -92,6 +92,12 @@ class Settings(BaseSettings):
         gt=0,
         description="Default time a command waits for the device's result before it expires.",
     )
+    blueprints_dir: Path | None = Field(
+        None,
+        description="A folder of extra blueprints (`name.py` files or `name/` packages, "
+        "Tvilling digital style `class P` included) [<data_dir>/blueprints].",
+    )
+    fmu_max_mb: int = Field(512, gt=0, description="Largest FMU file an upload may be, in MB.")
 
     @classmethod
     def settings_customise_sources(

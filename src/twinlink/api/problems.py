@@ -20,6 +20,7 @@ from twinlink.domain.errors import (
     ForbiddenError,
     InvalidInputError,
     NotFoundError,
+    PayloadTooLargeError,
 )
 
 log = logging.getLogger("twinlink.api")
@@ -78,7 +79,7 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(InvalidInputError)
     async def _invalid_input(_: Request, exc: InvalidInputError) -> Response:
-        return problem(422, str(exc))
+        return problem(413 if isinstance(exc, PayloadTooLargeError) else 422, str(exc))
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(_: Request, exc: RequestValidationError) -> Response:

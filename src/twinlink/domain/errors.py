@@ -60,3 +60,7 @@ class ConflictError(Exception):
 
 class InvalidInputError(ValueError):
     """A request that cannot be used as sent (HTTP 422); the message says what to change."""
+
+
+class PayloadTooLargeError(InvalidInputError):
+    """A request body over a configured size limit (HTTP 413)."""

@@ -8,6 +8,8 @@ only ever see samples that are durable.
 
 from __future__ import annotations
 
+import asyncio
+import logging
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -26,6 +28,8 @@ from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
 from twinlink.store.history import HistoryWriterStore
 from twinlink.store.records import Device
+
+log = logging.getLogger("twinlink.ingest")
 
 
 @dataclass(slots=True)
@@ -56,6 +60,7 @@ class IngestService:
         self.registry = registry
         self.history = history
         self.bus = bus
+        self._storing: set[asyncio.Future[bool]] = set()
         # The interface rules per twin, dropped on any registry change (and not kept when a
         # change raced the read).
         self._schemas: GenerationCache[int, Schema] = GenerationCache(lambda: registry.generation)
@@ -99,6 +104,20 @@ class IngestService:
         """Store and publish samples made inside the platform (processors, simulators)."""
         await self.history.append(batch)
         await self.bus.publish(samples_subject(batch.twin_id, batch.stream), batch)
+
+    async def publish_first(self, batch: SampleBatch) -> None:
+        """Samples the platform made from others (processor outputs): on the bus at once and
+        stored by the next group commit, so live views and chained processors do not wait for
+        the disk. Stores happen in call order."""
+        stored = asyncio.ensure_future(self.history.append(batch))
+        self._storing.add(stored)
+        stored.add_done_callback(self._stored)
+        await self.bus.publish(samples_subject(batch.twin_id, batch.stream), batch)
+
+    def _stored(self, task: asyncio.Future[bool]) -> None:
+        self._storing.discard(task)
+        if not task.cancelled() and task.exception() is not None:
+            log.error("storing processor output failed: %s", task.exception())
 
     def _ack(self, read: ReadBatch, duplicate: bool) -> Ack:
         if duplicate:

@@ -12,6 +12,9 @@ from twinlink.store.records import (
     ApiToken,
     Device,
     Edge,
+    FmuRecord,
+    ProcessorEvent,
+    ProcessorRecord,
     SearchResult,
     TwinRecord,
     TwinWrite,
@@ -112,3 +115,38 @@ class MetadataStore(Protocol):
         offset: int,
         facet_limit: int = 25,
     ) -> SearchResult: ...
+
+    # processors and FMUs
+    async def create_processor(
+        self,
+        twin_id: int,
+        name: str,
+        blueprint: str,
+        spec: dict[str, Any],
+        enabled: bool,
+        created_by: int | None,
+        now_ns: int,
+    ) -> ProcessorRecord: ...
+    async def update_processor(
+        self, processor_id: int, spec: dict[str, Any], enabled: bool, now_ns: int
+    ) -> None: ...
+    async def delete_processor(self, processor_id: int) -> None: ...
+    async def list_processors(self, twin_id: int | None = None) -> list[ProcessorRecord]: ...
+    async def add_processor_events(
+        self, events: list[tuple[int, int, str, str, dict[str, Any]]]
+    ) -> None: ...
+    async def list_processor_events(
+        self, processor_id: int, limit: int, before_id: int | None = None, kind: str | None = None
+    ) -> list[ProcessorEvent]: ...
+    async def put_fmu(
+        self,
+        twin_id: int,
+        name: str,
+        sha256: str,
+        size: int,
+        info: dict[str, Any],
+        uploaded_by: int | None,
+        now_ns: int,
+    ) -> FmuRecord: ...
+    async def list_fmus(self, twin_id: int) -> list[FmuRecord]: ...
+    async def delete_fmu(self, twin_id: int, name: str) -> bool: ...

@@ -110,3 +110,41 @@ class SearchResult:
     hits: list[dict[str, Any]]
     facets: list[tuple[str, int]]
     facet_hits: int = 0  # how many of the best hits the facets were counted over
+
+
+@dataclass(slots=True)
+class ProcessorRecord:
+    """A processor as stored: its blueprint, its JSON spec and whether it should run."""
+
+    id: int
+    twin_id: int
+    twin_slug: str
+    name: str
+    blueprint: str
+    spec: dict[str, Any]
+    enabled: bool
+    created_by: int | None
+    created_ns: int
+    modified_ns: int
+
+
+@dataclass(slots=True)
+class ProcessorEvent:
+    id: int
+    processor_id: int
+    time_ns: int
+    kind: str
+    message: str
+    data: dict[str, Any]
+
+
+@dataclass(slots=True)
+class FmuRecord:
+    id: int
+    twin_id: int
+    name: str
+    sha256: str
+    size: int
+    info: dict[str, Any]
+    uploaded_by: int | None
+    uploaded_ns: int

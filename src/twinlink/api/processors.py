@@ -1,0 +1,205 @@
+"""/api/v1/blueprints, /api/v1/twins/{slug}/processors and /api/v1/twins/{slug}/fmus."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Body, Depends, Query, Request, Response
+
+from twinlink.api.deps import Caller
+from twinlink.api.responses import JSONAnswer
+from twinlink.processors.fmus import FmuService, fmu_view
+from twinlink.processors.service import ProcessorService
+from twinlink.processors.spec import ProcessorSpec
+
+router = APIRouter(prefix="/api/v1", tags=["processors"])
+
+
+async def processor_service(request: Request) -> ProcessorService:
+    return request.app.state.services.processors  # type: ignore[no-any-return]
+
+
+async def fmu_service(request: Request) -> FmuService:
+    return request.app.state.services.fmus  # type: ignore[no-any-return]
+
+
+Processors = Annotated[ProcessorService, Depends(processor_service)]
+Fmus = Annotated[FmuService, Depends(fmu_service)]
+
+
+@router.get(
+    "/blueprints",
+    summary="Blueprints with their documentation and parameter JSON schema",
+    response_class=JSONAnswer,
+)
+async def list_blueprints(_: Caller, processors: Processors) -> dict[str, Any]:
+    return {"blueprints": processors.blueprints()}
+
+
+@router.get("/blueprints/{name}", summary="One blueprint", response_class=JSONAnswer)
+async def get_blueprint(name: str, _: Caller, processors: Processors) -> dict[str, Any]:
+    return processors.blueprint(name)
+
+
+@router.get(
+    "/twins/{slug}/processors",
+    summary="The twin's processors with state and figures (viewers)",
+    response_class=JSONAnswer,
+)
+async def list_processors(slug: str, caller: Caller, processors: Processors) -> dict[str, Any]:
+    return {"processors": await processors.list_processors(caller, slug)}
+
+
+@router.post(
+    "/twins/{slug}/processors",
+    summary="Create a processor (editors); it starts at once unless `enabled` is false",
+    response_class=JSONAnswer,
+    status_code=201,
+)
+async def create_processor(
+    slug: str, body: ProcessorSpec, caller: Caller, processors: Processors
+) -> JSONAnswer:
+    made = await processors.create(caller, slug, body.model_dump(mode="json", exclude_unset=True))
+    return JSONAnswer(made, status_code=201)
+
+
+@router.get(
+    "/twins/{slug}/processors/{name}",
+    summary="A processor: configuration, state, figures, its blueprint's inputs and outputs",
+    response_class=JSONAnswer,
+)
+async def get_processor(
+    slug: str, name: str, caller: Caller, processors: Processors
+) -> dict[str, Any]:
+    return await processors.get(caller, slug, name)
+
+
+@router.patch(
+    "/twins/{slug}/processors/{name}",
+    summary="Change a processor (editors). New `params` alone are applied to the running "
+    "worker, keeping its state where the blueprint can (`kept_state`); other changes restart it",
+    response_class=JSONAnswer,
+)
+async def update_processor(
+    slug: str,
+    name: str,
+    caller: Caller,
+    processors: Processors,
+    changes: Annotated[dict[str, Any], Body(description="fields of the processor to change")],
+) -> dict[str, Any]:
+    return await processors.update(caller, slug, name, changes)
+
+
+@router.post("/twins/{slug}/processors/{name}/start", summary="Start (editors)")
+async def start_processor(
+    slug: str, name: str, caller: Caller, processors: Processors
+) -> JSONAnswer:
+    return JSONAnswer(await processors.set_enabled(caller, slug, name, True))
+
+
+@router.post("/twins/{slug}/processors/{name}/stop", summary="Stop gracefully (editors)")
+async def stop_processor(
+    slug: str, name: str, caller: Caller, processors: Processors
+) -> JSONAnswer:
+    return JSONAnswer(await processors.set_enabled(caller, slug, name, False))
+
+
+@router.post("/twins/{slug}/processors/{name}/restart", summary="Restart its worker (editors)")
+async def restart_processor(
+    slug: str, name: str, caller: Caller, processors: Processors
+) -> JSONAnswer:
+    return JSONAnswer(await processors.restart(caller, slug, name))
+
+
+@router.delete("/twins/{slug}/processors/{name}", summary="Delete (editors)", status_code=204)
+async def delete_processor(
+    slug: str, name: str, caller: Caller, processors: Processors
+) -> Response:
+    await processors.delete(caller, slug, name)
+    return Response(status_code=204)
+
+
+@router.get(
+    "/twins/{slug}/processors/{name}/events",
+    summary="What happened: started, crashed (with the cause), memory limit, alarms (newest first)",
+    response_class=JSONAnswer,
+)
+async def processor_events(
+    slug: str,
+    name: str,
+    caller: Caller,
+    processors: Processors,
+    limit: Annotated[int, Query(ge=1, le=1000)] = 100,
+    before: Annotated[int | None, Query(description="only events with a smaller id")] = None,
+    kind: Annotated[str | None, Query(description="only events of this kind")] = None,
+) -> dict[str, Any]:
+    events = await processors.events(caller, slug, name, limit, before, kind)
+    return {
+        "events": [
+            {"id": e.id, "time_ns": e.time_ns, "kind": e.kind, "message": e.message, "data": e.data}
+            for e in events
+        ]
+    }
+
+
+@router.get(
+    "/twins/{slug}/processors/{name}/logs",
+    summary="The last lines its worker printed (its own and its native code's output)",
+    response_class=JSONAnswer,
+)
+async def processor_logs(
+    slug: str, name: str, caller: Caller, processors: Processors
+) -> dict[str, Any]:
+    lines = await processors.logs(caller, slug, name)
+    return {"lines": [{"time_ns": t, "text": text} for t, text in lines]}
+
+
+# -- FMUs -----------------------------------------------------------------------------------
+
+
+@router.put(
+    "/twins/{slug}/fmus/{name}",
+    summary="Upload an FMU (editors): the file as the body; checked with FMPy, replaced if "
+    "it exists",
+    response_class=JSONAnswer,
+    openapi_extra={
+        "requestBody": {
+            "required": True,
+            "content": {
+                "application/octet-stream": {"schema": {"type": "string", "format": "binary"}}
+            },
+        }
+    },
+)
+async def upload_fmu(
+    slug: str, name: str, request: Request, caller: Caller, fmus: Fmus
+) -> JSONAnswer:
+    record = await fmus.upload(caller, slug, name, request.stream())
+    return JSONAnswer(fmu_view(record, variables=True), status_code=201)
+
+
+@router.get("/twins/{slug}/fmus", summary="The twin's FMUs (viewers)", response_class=JSONAnswer)
+async def list_fmus(slug: str, caller: Caller, fmus: Fmus) -> dict[str, Any]:
+    return {"fmus": [fmu_view(r) for r in await fmus.list_fmus(caller, slug)]}
+
+
+@router.get(
+    "/twins/{slug}/fmus/{name}",
+    summary="An FMU and its variables: causality, type, unit, start, min, max (viewers)",
+    response_class=JSONAnswer,
+)
+async def get_fmu(slug: str, name: str, caller: Caller, fmus: Fmus) -> dict[str, Any]:
+    return fmu_view(await fmus.get(caller, slug, name), variables=True)
+
+
+@router.delete("/twins/{slug}/fmus/{name}", summary="Delete an FMU (editors)", status_code=204)
+async def delete_fmu(
+    slug: str, name: str, caller: Caller, fmus: Fmus, processors: Processors
+) -> Response:
+    users = [
+        p["name"]
+        for p in await processors.list_processors(caller, slug)
+        if p["blueprint"] == "fmu" and p.get("params", {}).get("fmu") == name
+    ]
+    await fmus.delete(caller, slug, name, users)
+    return Response(status_code=204)

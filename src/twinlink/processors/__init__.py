@@ -1,0 +1,1 @@
+"""Processors: blueprints run in supervised worker processes beside the live data."""

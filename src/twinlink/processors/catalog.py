@@ -1,0 +1,138 @@
+"""Finding blueprints: installed packages (entry points) and the blueprints folder.
+
+The built-in blueprints are ordinary entry points of the `twinlink.blueprints` group, found the
+same way as a third-party package's. In the folder, a `name.py` file or a `name/` package may
+define Blueprint subclasses, or a Tvilling digital style `class P` (run through the adapter
+under the module's name). A module that fails to import is listed with its error.
+
+A blueprint is named by a reference (`ref`) that a worker process can load on its own:
+`{"entry": "package.module:Class"}` or `{"path": "/abs/file.py", "class": "Class"}` or
+`{"path": "/abs/folder", "tvilling": "name"}`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import importlib.util
+import inspect
+import logging
+import sys
+from dataclasses import dataclass
+from importlib.metadata import entry_points
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from twinlink.processors.blueprint import Blueprint, describe_blueprint
+
+log = logging.getLogger("twinlink.processors")
+GROUP = "twinlink.blueprints"
+
+BlueprintClass = type[Blueprint[Any]]
+
+
+@dataclass(slots=True)
+class Entry:
+    name: str
+    ref: dict[str, str]
+    source: str  # "installed" or "folder"
+    cls: BlueprintClass | None = None
+    error: str | None = None
+
+    def view(self) -> dict[str, Any]:
+        if self.cls is None:
+            return {"name": self.name, "source": self.source, "error": self.error}
+        return {**describe_blueprint(self.cls), "name": self.name, "source": self.source}
+
+
+def load_ref(ref: dict[str, str]) -> BlueprintClass:
+    """The blueprint class a reference names (in the server or in a worker)."""
+    if "entry" in ref:
+        module_name, _, attr = ref["entry"].partition(":")
+        cls = getattr(importlib.import_module(module_name), attr)
+    else:
+        module = _load_path(Path(ref["path"]))
+        if "tvilling" in ref:
+            from twinlink.processors.blueprints.tvilling import tvilling_blueprint
+
+            cls = tvilling_blueprint(ref["tvilling"], module.P)
+        else:
+            cls = getattr(module, ref["class"])
+    if not (inspect.isclass(cls) and issubclass(cls, Blueprint)):
+        raise TypeError(f"{ref} is not a Blueprint subclass")
+    return cls
+
+
+def discover(folder: Path | None) -> dict[str, Entry]:
+    """Every blueprint, installed ones first; a folder blueprint may not shadow one of them."""
+    found: dict[str, Entry] = {}
+    for ep in entry_points(group=GROUP):
+        entry = Entry(ep.name, {"entry": ep.value}, "installed")
+        try:
+            entry.cls = load_ref(entry.ref)
+        except Exception as err:  # a broken plug-in is listed, never fatal
+            entry.error = f"{type(err).__name__}: {err}"
+        found[ep.name] = entry
+    if folder is not None and folder.is_dir():
+        for entry in _folder_entries(folder):
+            if entry.name in found:
+                log.warning(
+                    "blueprint %r in %s is shadowed by an installed one", entry.name, folder
+                )
+                continue
+            found[entry.name] = entry
+    return found
+
+
+def _folder_entries(folder: Path) -> list[Entry]:
+    entries: list[Entry] = []
+    for path in sorted(folder.iterdir()):
+        if path.name.startswith(("_", ".")):
+            continue
+        if not (path.suffix == ".py" or (path / "__init__.py").is_file()):
+            continue
+        try:
+            entries.extend(_module_entries(path))
+        except Exception as err:  # a syntax error in one file must not hide the others
+            entries.append(Entry(path.stem, {}, "folder", error=f"{type(err).__name__}: {err}"))
+    return entries
+
+
+def _module_entries(path: Path) -> list[Entry]:
+    module = _load_path(path)
+    entries = []
+    for attr, value in vars(module).items():
+        if (
+            inspect.isclass(value)
+            and issubclass(value, Blueprint)
+            and value.__module__ == module.__name__
+            and value.name
+        ):
+            ref = {"path": str(path.resolve()), "class": attr}
+            entries.append(Entry(value.name, ref, "folder", cls=value))
+    if not entries and inspect.isclass(getattr(module, "P", None)):
+        ref = {"path": str(path.resolve()), "tvilling": path.stem}
+        entries.append(Entry(path.stem, ref, "folder", cls=load_ref(ref)))
+    return entries
+
+
+def _load_path(path: Path) -> ModuleType:
+    init = path / "__init__.py" if path.is_dir() else path
+    digest = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:12]
+    name = f"twinlink_blueprint_{path.stem}_{digest}"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(
+        name, init, submodule_search_locations=[str(path)] if path.is_dir() else None
+    )
+    if spec is None or spec.loader is None:
+        raise ImportError(f"cannot load {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module

@@ -1,0 +1,391 @@
+"""Processors of twins: what people create and change, and the supervised workers behind them.
+
+Each enabled processor has a Supervisor (its worker process) and a bus subscription to its
+source stream; its output goes back through ingest (bus at once, history at the next group
+commit), so it can be charted live, read from history and fed to the next processor.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from twinlink.auth.rights import Principal, has_role
+from twinlink.bus import Bus, samples_subject
+from twinlink.commands import CommandService
+from twinlink.domain.errors import (
+    ConflictError,
+    ForbiddenError,
+    InvalidInputError,
+    NotFoundError,
+)
+from twinlink.domain.samples import SampleBatch
+from twinlink.ingest.service import IngestService
+from twinlink.processors.blueprint import Batch
+from twinlink.processors.catalog import Entry, discover
+from twinlink.processors.convert import to_columns, to_samples
+from twinlink.processors.spec import ProcessorSpec
+from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
+from twinlink.registry.service import RegistryService
+from twinlink.store.base import MetadataStore
+from twinlink.store.records import ProcessorEvent, ProcessorRecord, TwinRecord
+
+log = logging.getLogger("twinlink.processors")
+NOTABLE = {"crashed", "failed", "memory_limit"}
+
+
+@dataclass(slots=True)
+class Hosted:
+    record: ProcessorRecord
+    supervisor: Supervisor
+    unsubscribe: Any = None
+
+
+class ProcessorService:
+    def __init__(
+        self,
+        store: MetadataStore,
+        registry: RegistryService,
+        bus: Bus,
+        ingest: IngestService,
+        commands: CommandService,
+        data_dir: Path,
+        blueprints_dir: Path | None,
+    ) -> None:
+        self.store = store
+        self.registry = registry
+        self.bus = bus
+        self.ingest = ingest
+        self.commands = commands
+        self.data_dir = Path(data_dir)
+        self.blueprints_dir = blueprints_dir or self.data_dir / "blueprints"
+        self.catalog: dict[str, Entry] = {}
+        self.hosted: dict[int, Hosted] = {}
+        self._background: set[asyncio.Task[Any]] = set()
+        registry.deleted_listeners.append(self._twins_deleted)
+
+    # -- lifecycle --------------------------------------------------------------------------
+
+    async def open(self) -> None:
+        self.catalog = await asyncio.to_thread(discover, self.blueprints_dir)
+        for record in await self.store.list_processors():
+            if record.enabled:
+                self._host(record)
+
+    async def close(self) -> None:
+        await asyncio.gather(*(self._unhost(pid) for pid in list(self.hosted)))
+        if self._background:
+            await asyncio.gather(*self._background, return_exceptions=True)
+
+    def blueprints(self) -> list[dict[str, Any]]:
+        return [entry.view() for entry in self.catalog.values()]
+
+    def blueprint(self, name: str) -> dict[str, Any]:
+        entry = self.catalog.get(name)
+        if entry is None:
+            raise NotFoundError(f"no blueprint {name!r}; see /api/v1/blueprints")
+        return entry.view()
+
+    # -- people ---------------------------------------------------------------------------
+
+    async def list_processors(self, principal: Principal, slug: str) -> list[dict[str, Any]]:
+        twin, _ = await self.registry.require_twin(principal, slug)
+        return [self.view(r) for r in await self.store.list_processors(twin.id)]
+
+    async def get(self, principal: Principal, slug: str, name: str) -> dict[str, Any]:
+        return self.view(await self._find(principal, slug, name, "viewer"))
+
+    async def create(self, principal: Principal, slug: str, body: dict[str, Any]) -> dict[str, Any]:
+        twin = await self._editable(principal, slug)
+        spec = self._checked(body)
+        existing = await self.store.list_processors(twin.id)
+        if any(r.name == spec.name for r in existing):
+            raise ConflictError(f"the twin already has a processor {spec.name!r}")
+        _check_chain(spec, existing)
+        user_id = principal.user.id if principal.user else None
+        record = await self.store.create_processor(
+            twin.id, spec.name, spec.blueprint, spec.stored(), spec.enabled, user_id, time.time_ns()
+        )
+        if record.enabled:
+            self._host(record)
+        return self.view(record)
+
+    async def update(
+        self, principal: Principal, slug: str, name: str, changes: dict[str, Any]
+    ) -> dict[str, Any]:
+        """Change a processor. Parameters alone are applied to the running worker when its
+        blueprint can keep its state; anything else restarts it."""
+        record = await self._find(principal, slug, name, "editor")
+        current = _spec_of(record)
+        if "name" in changes and changes["name"] != record.name:
+            raise InvalidInputError("a processor cannot be renamed; create a new one")
+        merged = {**current.model_dump(mode="json"), **changes}
+        spec = self._checked(merged)
+        others = [r for r in await self.store.list_processors(record.twin_id) if r.id != record.id]
+        _check_chain(spec, others)
+        await self.store.update_processor(record.id, spec.stored(), spec.enabled, time.time_ns())
+        record.spec, record.enabled, record.blueprint = spec.stored(), spec.enabled, spec.blueprint
+        kept = await self._apply(record, current, spec)
+        return {**self.view(record), "kept_state": kept}
+
+    async def set_enabled(
+        self, principal: Principal, slug: str, name: str, enabled: bool
+    ) -> dict[str, Any]:
+        return await self.update(principal, slug, name, {"enabled": enabled})
+
+    async def restart(self, principal: Principal, slug: str, name: str) -> dict[str, Any]:
+        record = await self._find(principal, slug, name, "editor")
+        hosted = self.hosted.get(record.id)
+        if hosted is None:
+            raise ConflictError(f"processor {name!r} is stopped; start it instead")
+        await hosted.supervisor.restart()
+        return self.view(record)
+
+    async def delete(self, principal: Principal, slug: str, name: str) -> None:
+        record = await self._find(principal, slug, name, "editor")
+        await self._unhost(record.id)
+        await self.store.delete_processor(record.id)
+
+    async def events(
+        self, principal: Principal, slug: str, name: str, limit: int, before: int | None,
+        kind: str | None,
+    ) -> list[ProcessorEvent]:  # fmt: skip
+        record = await self._find(principal, slug, name, "viewer")
+        return await self.store.list_processor_events(record.id, limit, before, kind)
+
+    async def logs(self, principal: Principal, slug: str, name: str) -> list[tuple[int, str]]:
+        record = await self._find(principal, slug, name, "viewer")
+        hosted = self.hosted.get(record.id)
+        return list(hosted.supervisor.logs) if hosted else []
+
+    def view(self, record: ProcessorRecord) -> dict[str, Any]:
+        hosted = self.hosted.get(record.id)
+        sup = hosted.supervisor if hosted else None
+        return {
+            "name": record.name,
+            "twin": record.twin_slug,
+            "blueprint": record.blueprint,
+            **record.spec,
+            "enabled": record.enabled,
+            "state": sup.state if sup else "stopped",
+            "pid": sup.pid if sup and sup.state == "running" else None,
+            "last_error": sup.last_error if sup else None,
+            "restart_at": sup.restart_at if sup else None,
+            "stats": sup.stats.view() if sup else None,
+            "running": sup.info if sup else {},
+            "created_ns": record.created_ns,
+            "modified_ns": record.modified_ns,
+        }
+
+    # -- hosting ----------------------------------------------------------------------------
+
+    def _host(self, record: ProcessorRecord) -> None:
+        entry = self.catalog.get(record.blueprint)
+        config = self._worker_config(record, entry)
+        supervisor = Supervisor(
+            config,
+            on_output=partial(self._publish, record),
+            on_events=partial(self._record_events, record),
+            on_commands=partial(self._send_commands, record),
+        )
+        hosted = Hosted(record, supervisor)
+        spec = _spec_of(record)
+
+        def on_batch(subject: str, batch: object) -> None:
+            if isinstance(batch, SampleBatch):
+                supervisor.feed(
+                    to_columns(batch, _wanted(spec, supervisor.info)), time.perf_counter()
+                )
+
+        hosted.unsubscribe = self.bus.subscribe(
+            samples_subject(record.twin_id, spec.source), on_batch
+        )
+        self.hosted[record.id] = hosted
+        if entry is None or entry.cls is None:
+            why = f"blueprint {record.blueprint!r} is not available"
+            supervisor.last_error = why
+            self._record_events(record, [("failed", why, time.time_ns(), {})])
+            return
+        supervisor.start()
+
+    async def _unhost(self, processor_id: int) -> None:
+        hosted = self.hosted.pop(processor_id, None)
+        if hosted is not None:
+            hosted.unsubscribe()
+            await hosted.supervisor.stop()
+
+    async def _apply(self, record: ProcessorRecord, old: ProcessorSpec, new: ProcessorSpec) -> bool:
+        hosted = self.hosted.get(record.id)
+        if hosted is None or not new.enabled or new.source != old.source:
+            await self._unhost(record.id)
+            if new.enabled:
+                self._host(record)
+            return False
+        hosted.record = record
+        params_only = old.model_dump(exclude={"params"}) == new.model_dump(exclude={"params"})
+        config = self._worker_config(record, self.catalog.get(record.blueprint))
+        return await hosted.supervisor.reconfigure(config, params_only)
+
+    def _worker_config(self, record: ProcessorRecord, entry: Entry | None) -> WorkerConfig:
+        spec = _spec_of(record)
+        return WorkerConfig(
+            processor_id=record.id,
+            name=record.name,
+            twin=record.twin_slug,
+            ref=entry.ref if entry else {},
+            params=spec.params,
+            inputs={k: v.model_dump() for k, v in spec.input_maps().items()},
+            rates=spec.rates.model_dump(),
+            files=self.data_dir / "fmus" / str(record.twin_id),
+            workdir=self.data_dir / "processors" / str(record.id),
+            memory_limit_bytes=spec.memory_limit_mb * 2**20,
+        )
+
+    async def _publish(self, record: ProcessorRecord, out: Batch) -> None:
+        stream = _spec_of(record).output_stream
+        source = f"processor:{record.name}"
+        await self.ingest.publish_first(
+            to_samples(out, record.twin_id, record.twin_slug, stream, source)
+        )
+
+    def _record_events(self, record: ProcessorRecord, events: list[EventTuple]) -> None:
+        for kind, message, _, data in events:
+            if kind in NOTABLE:
+                extra = {"event": f"processor_{kind}", "exit_code": data.get("exit_code")}
+                log.warning(
+                    "processor %s/%s %s: %s", record.twin_slug, record.name, kind, message,
+                    extra=extra,
+                )  # fmt: skip
+        rows = [(record.id, t or time.time_ns(), k, m, d) for k, m, t, d in events]
+        self._spawn(self.store.add_processor_events(rows))
+
+    def _send_commands(self, record: ProcessorRecord, commands: list[list[Any]]) -> None:
+        for name, params, device in commands:
+            self._spawn(self._send_command(record, name, params, device))
+
+    async def _send_command(
+        self, record: ProcessorRecord, name: str, params: dict[str, Any], device: str | None
+    ) -> None:
+        """A blueprint's command goes out with the rights of the processor's creator."""
+        user = await self.store.get_user(record.created_by) if record.created_by else None
+        try:
+            if user is None:
+                raise InvalidInputError("the processor's creator no longer exists")
+            sent = await self.commands.send(
+                Principal(user), record.twin_slug, name, params or None, device, wait=False
+            )
+            event = (
+                "command",
+                f"sent {name}",
+                time.time_ns(),
+                {"id": sent.id, "state": sent.state},
+            )
+        except Exception as err:  # a refused command is an event, not a crash
+            event = ("command_failed", f"{name}: {err}", time.time_ns(), {})
+        self._record_events(record, [event])
+
+    def _spawn(self, coro: Any) -> None:
+        task = asyncio.ensure_future(coro)
+        self._background.add(task)
+        task.add_done_callback(self._background.discard)
+
+    def _twins_deleted(self, twin_ids: list[int]) -> None:
+        gone = [pid for pid, h in self.hosted.items() if h.record.twin_id in twin_ids]
+        for pid in gone:
+            self._spawn(self._unhost(pid))
+
+    # -- checks -----------------------------------------------------------------------------
+
+    def _checked(self, body: dict[str, Any]) -> ProcessorSpec:
+        try:
+            spec = ProcessorSpec.model_validate(body)
+        except ValidationError as err:
+            raise InvalidInputError(_first_errors(err)) from None
+        entry = self.catalog.get(spec.blueprint)
+        if entry is None:
+            raise InvalidInputError(f"no blueprint {spec.blueprint!r}; see /api/v1/blueprints")
+        if entry.cls is None:
+            raise InvalidInputError(f"blueprint {spec.blueprint!r} is broken: {entry.error}")
+        try:
+            entry.cls.Params.model_validate(spec.params)
+        except ValidationError as err:
+            raise InvalidInputError("params: " + _first_errors(err)) from None
+        if spec.output_stream == spec.source:
+            raise InvalidInputError("a processor cannot write the stream it reads")
+        return spec
+
+    async def _editable(self, principal: Principal, slug: str) -> TwinRecord:
+        twin, role = await self.registry.require_twin(principal, slug)
+        if not has_role(principal, role, "editor"):
+            raise_forbidden(slug)
+        return twin
+
+    async def _find(
+        self, principal: Principal, slug: str, name: str, needed: str
+    ) -> ProcessorRecord:
+        twin, role = await self.registry.require_twin(principal, slug)
+        if needed == "editor" and not has_role(principal, role, "editor"):
+            raise_forbidden(slug)
+        for record in await self.store.list_processors(twin.id):
+            if record.name == name:
+                hosted = self.hosted.get(record.id)
+                return hosted.record if hosted else record
+        raise NotFoundError(f"twin {slug!r} has no processor {name!r}")
+
+
+def raise_forbidden(slug: str) -> None:
+    raise ForbiddenError(f"changing processors of {slug!r} needs the editor role")
+
+
+def _spec_of(record: ProcessorRecord) -> ProcessorSpec:
+    return ProcessorSpec.model_validate(
+        {
+            **record.spec,
+            "name": record.name,
+            "blueprint": record.blueprint,
+            "enabled": record.enabled,
+        }
+    )
+
+
+def _wanted(spec: ProcessorSpec, info: dict[str, Any]) -> list[str] | None:
+    """The source signals a running blueprint reads (None: all, until it has said)."""
+    inputs = info.get("inputs")
+    if not inputs:
+        return None
+    maps = spec.input_maps()
+    return list(dict.fromkeys(maps[i].signal if i in maps else i for i in inputs))
+
+
+def _check_chain(spec: ProcessorSpec, others: list[ProcessorRecord]) -> None:
+    """Refuse a processor whose output would come back to its own input through others."""
+    edges: dict[str, set[str]] = {}
+    for record in others:
+        other = _spec_of(record)
+        edges.setdefault(other.source, set()).add(other.output_stream)
+        if other.output_stream == spec.output_stream:
+            raise ConflictError(f"processor {record.name!r} already writes {spec.output_stream!r}")
+    edges.setdefault(spec.source, set()).add(spec.output_stream)
+    seen, todo = set(), [spec.output_stream]
+    while todo:
+        stream = todo.pop()
+        if stream == spec.source:
+            raise InvalidInputError(
+                f"{spec.source!r} -> {spec.output_stream!r} would make a loop of processors"
+            )
+        if stream not in seen:
+            seen.add(stream)
+            todo.extend(edges.get(stream, ()))
+
+
+def _first_errors(err: ValidationError) -> str:
+    return "; ".join(
+        f"{'.'.join(str(p) for p in e['loc']) or 'body'}: {e['msg']}" for e in err.errors()[:5]
+    )

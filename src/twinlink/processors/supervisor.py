@@ -1,0 +1,357 @@
+"""Supervising one processor's worker process: start, feed, watch, restart, stop.
+
+A worker that dies (an exception in the blueprint, a segfault in native FMU code, the memory
+limit) is restarted after a backoff that doubles up to 30 s and resets once a worker has run for
+a minute; each death is reported as an event with its cause and the last lines of its log.
+Inputs that arrive while a worker is busy are sent as one batch when it is free (at most
+MAX_INFLIGHT batches are in the worker at once), so a burst costs one round trip, not many;
+inputs beyond `max_pending` samples, or while no worker runs, are dropped and counted.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import signal
+import socket
+import sys
+import time
+from collections import deque
+from collections.abc import Awaitable, Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import psutil
+
+from twinlink.processors.blueprint import Batch
+from twinlink.processors.stats import ProcessorStats
+from twinlink.processors.wire import ChannelClosed, frame, pack_batch, read_frame, unpack_batch
+
+log = logging.getLogger("twinlink.processors")
+
+MAX_INFLIGHT = 2
+START_TIMEOUT_S = 60.0
+STOP_GRACE_S = 5.0
+BACKOFF_FIRST_S = 0.5
+BACKOFF_MAX_S = 30.0
+STABLE_AFTER_S = 60.0
+MEMORY_POLL_S = 0.25
+LOG_LINES = 500
+
+# (kind, message, time_ns, data)
+EventTuple = tuple[str, str, int, dict[str, Any]]
+
+
+@dataclass(slots=True)
+class WorkerConfig:
+    processor_id: int
+    name: str
+    twin: str
+    ref: dict[str, str]
+    params: dict[str, Any]
+    inputs: dict[str, Any]
+    rates: dict[str, Any]
+    files: Path
+    workdir: Path
+    memory_limit_bytes: int
+
+    def init_message(self) -> dict[str, Any]:
+        return {
+            "t": "init",
+            "processor": self.name,
+            "twin": self.twin,
+            "ref": self.ref,
+            "params": self.params,
+            "inputs": self.inputs,
+            "rates": self.rates,
+            "files": str(self.files),
+            "workdir": str(self.workdir),
+        }
+
+    @property
+    def max_pending(self) -> int:
+        return max(100_000, 10 * int(self.rates.get("max_batch", 10_000)))
+
+
+class Supervisor:
+    def __init__(
+        self,
+        config: WorkerConfig,
+        on_output: Callable[[Batch], Awaitable[None]],
+        on_events: Callable[[list[EventTuple]], None],
+        on_commands: Callable[[list[list[Any]]], None],
+    ) -> None:
+        self.config = config
+        self.on_output = on_output
+        self.on_events = on_events
+        self.on_commands = on_commands
+        self.state = "stopped"  # starting, running, backoff, stopping, stopped
+        self.stats = ProcessorStats()
+        self.logs: deque[tuple[int, str]] = deque(maxlen=LOG_LINES)
+        self.info: dict[str, Any] = {}
+        self.pid: int | None = None
+        self.last_error: str | None = None
+        self.restart_at: float | None = None
+        self._pending: deque[tuple[Batch, float]] = deque()
+        self._pending_samples = 0
+        self._inflight: deque[tuple[int, float]] = deque()
+        self._next_id = 0
+        self._wake = asyncio.Event()
+        self._stop = asyncio.Event()
+        self._task: asyncio.Task[None] | None = None
+        self._proc: asyncio.subprocess.Process | None = None
+        self._writer: asyncio.StreamWriter | None = None
+        self._restart_requested = False
+        self._over_memory: int | None = None
+        self._failure: str | None = None
+        self._configured: asyncio.Future[bool] | None = None
+
+    # -- the server's side --------------------------------------------------------------
+
+    def start(self) -> None:
+        if self._task is not None and not self._task.done():
+            return
+        self._stop.clear()
+        self._task = asyncio.create_task(self._run(), name=f"processor {self.config.name}")
+
+    def feed(self, batch: Batch, arrived: float) -> None:
+        """Queue input for the worker (`arrived`: perf_counter when it reached the server)."""
+        if self.state != "running":
+            self.stats.dropped += len(batch)
+            return
+        self._pending.append((batch, arrived))
+        self._pending_samples += len(batch)
+        while self._pending_samples > self.config.max_pending and len(self._pending) > 1:
+            old, _ = self._pending.popleft()
+            self._pending_samples -= len(old)
+            self.stats.dropped += len(old)
+        self._wake.set()
+
+    async def reconfigure(self, config: WorkerConfig, params_only: bool) -> bool:
+        """Use `config` from now on. True when the running worker kept its state."""
+        self.config = config
+        if self.state != "running" or self._writer is None:
+            return False
+        if params_only:
+            self._configured = asyncio.get_running_loop().create_future()
+            self._writer.write(frame({"t": "configure", "params": config.params}))
+            with contextlib.suppress(TimeoutError):
+                if await asyncio.wait_for(self._configured, 30):
+                    return True
+        await self.restart()
+        return False
+
+    async def restart(self) -> None:
+        """Start a fresh worker now (not counted as a crash)."""
+        if self.state == "running":
+            self._restart_requested = True
+            await self._ask_to_stop()
+
+    async def stop(self) -> None:
+        """Stop gracefully (the blueprint's `stop` runs), then by force."""
+        self._stop.set()
+        self._wake.set()
+        if self.state == "running":
+            self.state = "stopping"
+        await self._ask_to_stop()
+        if self._task is not None:
+            await self._task
+
+    # -- one worker after another ------------------------------------------------------
+
+    async def _run(self) -> None:
+        failures = 0
+        loop = asyncio.get_running_loop()
+        while not self._stop.is_set():
+            began = loop.time()
+            cause = await self._life()
+            if self._stop.is_set():
+                break
+            if cause is None:  # a restart that was asked for
+                continue
+            failures = 1 if loop.time() - began >= STABLE_AFTER_S else failures + 1
+            delay = min(BACKOFF_MAX_S, BACKOFF_FIRST_S * 2 ** (failures - 1))
+            self.stats.restarts += 1
+            kind, message, data = cause
+            self.last_error = message
+            self.on_events([(kind, message, time.time_ns(), {**data, "restart_in_s": delay})])
+            self.state = "backoff"
+            self.restart_at = time.time() + delay
+            with contextlib.suppress(TimeoutError):
+                await asyncio.wait_for(self._stop.wait(), delay)
+        self.state = "stopped"
+        self.restart_at = None
+        self.on_events([("stopped", "stopped", time.time_ns(), {})])
+
+    async def _life(self) -> tuple[str, str, dict[str, Any]] | None:
+        """Run one worker until it exits; why it exited (None: it was asked to)."""
+        self.state = "starting"
+        self._restart_requested = False
+        self._over_memory = self._failure = None
+        parent, child = socket.socketpair()
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "twinlink.processors.worker", str(child.fileno()),
+            pass_fds=(child.fileno(),), stdin=asyncio.subprocess.DEVNULL,
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.STDOUT,
+            start_new_session=True,
+        )  # fmt: skip
+        child.close()
+        self._proc, self.pid = proc, proc.pid
+        assert proc.stdout is not None
+        logs = asyncio.create_task(self._read_logs(proc.stdout))
+        reader, writer = await asyncio.open_connection(sock=parent)
+        self._writer = writer
+        try:
+            if await self._started(reader, writer):
+                await self._serve(proc, reader, writer)
+        finally:
+            self._writer = None
+            writer.close()
+            if proc.returncode is None:
+                proc.kill()
+            await proc.wait()
+            await logs
+            self._proc = None
+            self._abandon_inflight()
+        return self._cause(proc.returncode)
+
+    async def _started(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> bool:
+        writer.write(frame(self.config.init_message()))
+        try:
+            ready = await asyncio.wait_for(read_frame(reader), START_TIMEOUT_S)
+        except (ChannelClosed, TimeoutError):
+            return False
+        if ready["t"] != "ready":
+            self._failure = f"could not start: {ready.get('error', ready)}"
+            return False
+        self.info = {k: ready[k] for k in ("inputs", "outputs", "describe")}
+        self.state = "stopping" if self._stop.is_set() else "running"
+        self.restart_at = None
+        self.on_events([("started", "started", time.time_ns(), {"pid": ready["pid"]})])
+        return True
+
+    async def _serve(
+        self,
+        proc: asyncio.subprocess.Process,
+        reader: asyncio.StreamReader,
+        writer: asyncio.StreamWriter,
+    ) -> None:
+        tasks = [
+            asyncio.create_task(self._send(writer)),
+            asyncio.create_task(self._watch_memory(proc)),
+        ]
+        try:
+            await self._receive(reader)
+        finally:
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
+    async def _send(self, writer: asyncio.StreamWriter) -> None:
+        while True:
+            await self._wake.wait()
+            self._wake.clear()
+            while self._pending and len(self._inflight) < MAX_INFLIGHT:
+                batches = [b for b, _ in self._pending]
+                arrived = self._pending[0][1]
+                self._pending.clear()
+                self._pending_samples = 0
+                batch = Batch.concat(batches)
+                self._next_id += 1
+                self._inflight.append((self._next_id, arrived))
+                writer.write(frame({"t": "data", "id": self._next_id, **pack_batch(batch)}))
+                self.stats.samples_in += len(batch)
+                self.stats.batches += 1
+            await writer.drain()
+
+    async def _receive(self, reader: asyncio.StreamReader) -> None:
+        with contextlib.suppress(ChannelClosed):
+            while True:
+                message = await read_frame(reader)
+                kind = message["t"]
+                if kind == "out":
+                    await self._took_output(message)
+                elif kind == "configured" and self._configured is not None:
+                    if not self._configured.done():
+                        self._configured.set_result(bool(message["kept_state"]))
+                elif kind == "failed":
+                    self._failure = f"{message['where']} failed: {message['error']}"
+
+    async def _took_output(self, message: dict[str, Any]) -> None:
+        _, arrived = self._inflight.popleft()
+        self._wake.set()
+        self.stats.timed(message["timings"])
+        if message["events"]:
+            self.on_events([tuple(e) for e in message["events"]])
+        if message["commands"]:
+            self.on_commands(message["commands"])
+        if "times" in message:
+            out = unpack_batch(message)
+            self.stats.samples_out += len(out)
+            await self.on_output(out)
+        self.stats.latency_s.add(time.perf_counter() - arrived)
+
+    async def _watch_memory(self, proc: asyncio.subprocess.Process) -> None:
+        limit = self.config.memory_limit_bytes
+        with contextlib.suppress(psutil.Error):
+            watched = psutil.Process(proc.pid)
+            while proc.returncode is None:
+                rss = int(watched.memory_info().rss)
+                self.stats.rss_bytes = rss
+                if rss > limit:
+                    self._over_memory = rss
+                    proc.kill()
+                    return
+                await asyncio.sleep(MEMORY_POLL_S)
+
+    async def _read_logs(self, stream: asyncio.StreamReader) -> None:
+        while line := await stream.readline():
+            text = line.decode("utf-8", "replace").rstrip()[:2000]
+            self.logs.append((time.time_ns(), text))
+            log.debug("%s: %s", self.config.name, text)
+
+    async def _ask_to_stop(self) -> None:
+        proc, writer = self._proc, self._writer
+        if proc is None or proc.returncode is not None:
+            return
+        if writer is not None:
+            with contextlib.suppress(ConnectionError, RuntimeError):
+                writer.write(frame({"t": "stop"}))
+        for action in (None, proc.terminate, proc.kill):
+            if action is not None:
+                with contextlib.suppress(ProcessLookupError):
+                    action()
+            with contextlib.suppress(TimeoutError):
+                await asyncio.wait_for(proc.wait(), STOP_GRACE_S if action is None else 2.0)
+                return
+
+    def _abandon_inflight(self) -> None:
+        """Input the dead worker never answered is lost (not re-sent: it may be what killed
+        it), and so is input queued for it."""
+        lost = sum(len(b) for b, _ in self._pending)
+        self.stats.dropped += lost
+        self._pending.clear()
+        self._pending_samples = 0
+        self._inflight.clear()
+
+    def _cause(self, code: int | None) -> tuple[str, str, dict[str, Any]] | None:
+        if self._restart_requested or self._stop.is_set():
+            return None
+        tail = [line for _, line in list(self.logs)[-20:]]
+        data: dict[str, Any] = {"exit_code": code, "log_tail": tail}
+        if self._over_memory is not None:
+            limit_mb = self.config.memory_limit_bytes / 2**20
+            message = (
+                f"over its memory limit: RSS {self._over_memory / 2**20:.0f} MB > {limit_mb:.0f} MB"
+            )
+            return "memory_limit", message, {**data, "rss_bytes": self._over_memory}
+        self.stats.crashes += 1
+        if code is not None and code < 0:
+            name = signal.Signals(-code).name
+            described = signal.strsignal(-code) or name
+            return "crashed", f"killed by signal {name} ({described})", data
+        if self._failure is not None:
+            return "failed", self._failure, data
+        return "crashed", f"exited with status {code}", data
