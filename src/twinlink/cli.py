@@ -184,3 +184,9 @@ main.add_command(properties)
 from twinlink.cli_history import history  # noqa: E402
 
 main.add_command(history)
+
+from twinlink.cli_processors import blueprints, fmus, processors  # noqa: E402
+
+main.add_command(blueprints)
+main.add_command(processors)
+main.add_command(fmus)

@@ -209,6 +209,9 @@ class Supervisor:
         finally:
             self._writer = None
             writer.close()
+            # The channel closed: the worker is exiting (or hung); give it a moment to finish.
+            with contextlib.suppress(TimeoutError):
+                await asyncio.wait_for(proc.wait(), STOP_GRACE_S)
             if proc.returncode is None:
                 proc.kill()
             await proc.wait()
@@ -348,10 +351,10 @@ class Supervisor:
             )
             return "memory_limit", message, {**data, "rss_bytes": self._over_memory}
         self.stats.crashes += 1
+        if self._failure is not None:
+            return "failed", self._failure, data
         if code is not None and code < 0:
             name = signal.Signals(-code).name
             described = signal.strsignal(-code) or name
             return "crashed", f"killed by signal {name} ({described})", data
-        if self._failure is not None:
-            return "failed", self._failure, data
         return "crashed", f"exited with status {code}", data
