@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 from pydantic import Field
 
@@ -77,4 +79,19 @@ class Fussy(Blueprint[HogParams]):
     def process(self, batch: Batch) -> Batch | None:
         if (batch.columns.get(self.params.signal, np.empty(0)) < 0).any():
             raise BlueprintError("negative values are not allowed")
+        return batch
+
+
+class Stuck(Blueprint[HogParams]):
+    """Never returns from a batch with a positive value, as a hung model would."""
+
+    name = "test-stuck"
+    Params = HogParams
+
+    def inputs(self) -> list[str]:
+        return [self.params.signal]
+
+    def process(self, batch: Batch) -> Batch | None:
+        if (batch.columns.get(self.params.signal, np.empty(0)) > 0).any():
+            threading.Event().wait()  # forever
         return batch

@@ -210,3 +210,16 @@ def test_metrics_per_processor(server: Server) -> None:
         text = admin.get("/metrics").text
     labels = f'blueprint="test-gain",processor="m",twin="{slug}"'
     assert f"twinlink_processor_samples_out_total{{{labels}}} 5.0" in text
+
+
+def test_a_hung_worker_is_restarted(server: Server) -> None:
+    slug, [device] = device_twin(server)
+    create(server, slug, name="stuck", blueprint="test-stuck", batch_timeout_s=0.5,
+           params={"signal": "x"})  # fmt: skip
+    first = wait_for(server, slug, "stuck", lambda p: p["state"] == "running")
+    post(server, device, 1, [{"x": 1.0}])
+    wait_for(server, slug, "stuck", lambda p: p["stats"]["restarts"] == 1)
+    [event] = events(server, slug, "stuck", "hung")
+    assert "stuck on one batch" in event["message"]
+    again = wait_for(server, slug, "stuck", lambda p: p["state"] == "running")
+    assert again["pid"] != first["pid"]

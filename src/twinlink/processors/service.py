@@ -38,7 +38,7 @@ from twinlink.store.base import MetadataStore
 from twinlink.store.records import ProcessorEvent, ProcessorRecord, TwinRecord
 
 log = logging.getLogger("twinlink.processors")
-NOTABLE = {"crashed", "failed", "memory_limit"}
+NOTABLE = {"crashed", "failed", "memory_limit", "hung"}
 
 
 @dataclass(slots=True)
@@ -246,6 +246,7 @@ class ProcessorService:
             files=self.data_dir / "fmus" / str(record.twin_id),
             workdir=self.data_dir / "processors" / str(record.id),
             memory_limit_bytes=spec.memory_limit_mb * 2**20,
+            batch_timeout_s=spec.batch_timeout_s,
         )
 
     async def _publish(self, record: ProcessorRecord, out: Batch) -> None:

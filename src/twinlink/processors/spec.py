@@ -67,6 +67,9 @@ class ProcessorSpec(BaseModel):
     memory_limit_mb: int = Field(
         1024, ge=16, le=1 << 20, description="the worker is restarted when its RSS is above this"
     )
+    batch_timeout_s: float = Field(
+        30.0, gt=0, le=3600, description="a worker stuck this long on one batch is restarted"
+    )
     enabled: bool = Field(True, description="whether it runs (now and after a server restart)")
 
     @field_validator("name", "source")

@@ -56,6 +56,7 @@ class WorkerConfig:
     files: Path
     workdir: Path
     memory_limit_bytes: int
+    batch_timeout_s: float = 30.0
 
     def init_message(self) -> dict[str, Any]:
         return {
@@ -96,7 +97,7 @@ class Supervisor:
         self.restart_at: float | None = None
         self._pending: deque[tuple[Batch, float]] = deque()
         self._pending_samples = 0
-        self._inflight: deque[tuple[int, float]] = deque()
+        self._inflight: deque[tuple[int, float, float]] = deque()
         self._next_id = 0
         self._wake = asyncio.Event()
         self._stop = asyncio.Event()
@@ -105,6 +106,7 @@ class Supervisor:
         self._writer: asyncio.StreamWriter | None = None
         self._restart_requested = False
         self._over_memory: int | None = None
+        self._hung: float | None = None
         self._failure: str | None = None
         self._configured: asyncio.Future[bool] | None = None
 
@@ -189,7 +191,7 @@ class Supervisor:
         """Run one worker until it exits; why it exited (None: it was asked to)."""
         self.state = "starting"
         self._restart_requested = False
-        self._over_memory = self._failure = None
+        self._over_memory = self._hung = self._failure = None
         parent, child = socket.socketpair()
         proc = await asyncio.create_subprocess_exec(
             sys.executable, "-m", "twinlink.processors.worker", str(child.fileno()),
@@ -243,7 +245,7 @@ class Supervisor:
     ) -> None:
         tasks = [
             asyncio.create_task(self._send(writer)),
-            asyncio.create_task(self._watch_memory(proc)),
+            asyncio.create_task(self._watch(proc)),
         ]
         try:
             await self._receive(reader)
@@ -263,7 +265,7 @@ class Supervisor:
                 self._pending_samples = 0
                 batch = Batch.concat(batches)
                 self._next_id += 1
-                self._inflight.append((self._next_id, arrived))
+                self._inflight.append((self._next_id, arrived, time.monotonic()))
                 writer.write(frame({"t": "data", "id": self._next_id, **pack_batch(batch)}))
                 self.stats.samples_in += len(batch)
                 self.stats.batches += 1
@@ -283,7 +285,7 @@ class Supervisor:
                     self._failure = f"{message['where']} failed: {message['error']}"
 
     async def _took_output(self, message: dict[str, Any]) -> None:
-        _, arrived = self._inflight.popleft()
+        _, arrived, _ = self._inflight.popleft()
         self._wake.set()
         self.stats.timed(message["timings"])
         if message["events"]:
@@ -296,7 +298,8 @@ class Supervisor:
             await self.on_output(out)
         self.stats.latency_s.add(time.perf_counter() - arrived)
 
-    async def _watch_memory(self, proc: asyncio.subprocess.Process) -> None:
+    async def _watch(self, proc: asyncio.subprocess.Process) -> None:
+        """Kill a worker over its memory limit, or one stuck on a batch (a hung model)."""
         limit = self.config.memory_limit_bytes
         with contextlib.suppress(psutil.Error):
             watched = psutil.Process(proc.pid)
@@ -307,6 +310,12 @@ class Supervisor:
                     self._over_memory = rss
                     proc.kill()
                     return
+                if self._inflight:
+                    waited = time.monotonic() - self._inflight[0][2]
+                    if waited > self.config.batch_timeout_s:
+                        self._hung = waited
+                        proc.kill()
+                        return
                 await asyncio.sleep(MEMORY_POLL_S)
 
     async def _read_logs(self, stream: asyncio.StreamReader) -> None:
@@ -350,6 +359,9 @@ class Supervisor:
                 f"over its memory limit: RSS {self._over_memory / 2**20:.0f} MB > {limit_mb:.0f} MB"
             )
             return "memory_limit", message, {**data, "rss_bytes": self._over_memory}
+        if self._hung is not None:
+            message = f"stuck on one batch for {self._hung:.0f} s (batch_timeout_s)"
+            return "hung", message, data
         self.stats.crashes += 1
         if self._failure is not None:
             return "failed", self._failure, data
