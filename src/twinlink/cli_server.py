@@ -56,68 +56,6 @@ def up(host: str | None, port: int | None, data_dir: Path | None, config_file: s
     serve(load_settings(config_file, host=host, port=port, data_dir=data_dir))
 
 
-def example_files(folder: Path) -> list[Path]:
-    return sorted(p for p in folder.rglob("*") if p.suffix in (".yaml", ".yml") and p.is_file())
-
-
-async def start_demo_simulator(
-    services: Services, base_url: str
-) -> Callable[[], Awaitable[None]] | None:
-    """Give the Tingen twin a device `tingenSAP` (a fresh token each start) and run the
-    simulated rig against this server; returns the function that stops it."""
-    import asyncio
-
-    from twinlink.auth.rights import Principal
-    from twinlink.domain.errors import ConflictError, NotFoundError
-    from twinlink.simulate.runner import run_tingen
-
-    admin = await services.store.get_user_by_name("admin")
-    if admin is None:
-        return None
-    principal = Principal(user=admin)
-    try:
-        try:
-            _, token = await services.devices.create(
-                principal, "tingen", "tingenSAP", "the simulated cantilever rig (make demo)"
-            )
-        except ConflictError:
-            _, token = await services.devices.rotate(principal, "tingen", "tingenSAP")
-    except NotFoundError:
-        return None
-    stop = asyncio.Event()
-    task = asyncio.create_task(run_tingen(base_url, token, stop), name="demo-simulator")
-
-    async def stop_simulator() -> None:
-        stop.set()
-        try:
-            await asyncio.wait_for(task, 3)
-        except Exception:  # the server is going down; the rig's last batches may be lost
-            task.cancel()
-
-    return stop_simulator
-
-
-async def load_examples(services: Services, folder: Path) -> list[str]:
-    """Apply every example document as the admin; already-loaded ones stay unchanged."""
-    from twinlink.auth.rights import Principal
-    from twinlink.domain.errors import ConflictError, DocumentError
-    from twinlink.registry.documents import parse_documents
-
-    admin = await services.store.get_user_by_name("admin")
-    if admin is None:
-        return []
-    principal = Principal(user=admin)
-    loaded = []
-    for path in example_files(folder):
-        try:
-            docs = parse_documents(path.read_bytes(), "application/yaml", 1 << 24)
-            for result in await services.registry.apply(principal, docs):
-                loaded.append(f"{result.twin.slug} ({result.outcome})")
-        except (DocumentError, ConflictError) as err:
-            click.echo(f"example {path} was not loaded: {err}", err=True)
-    return loaded
-
-
 @click.command()
 @_server_options("./.twinlink-demo")
 @click.option(
@@ -155,9 +93,14 @@ def demo(
             )
 
     async def ready(services: Services) -> Callable[[], Awaitable[None]] | None:
+        from twinlink.demo import load_examples, start_demo_fmu, start_demo_simulator
+
         loaded = await load_examples(services, examples)
         stop_simulator = await start_demo_simulator(services, settings.base_url)
+        fmu_note = await start_demo_fmu(services, examples)
         live = "  Tingen streams live from a simulated rig (device tingenSAP).\n"
+        if fmu_note:
+            live += f"  {fmu_note}\n"
         click.echo(
             f"\n  Demo twins: {', '.join(loaded) or 'none found in ' + str(examples)}\n"
             f"{live if stop_simulator else ''}"

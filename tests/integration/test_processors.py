@@ -3,17 +3,21 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from pathlib import Path
 
+import psutil
 import pytest
 
-from tests.conftest import Server, stop_server
+from tests.conftest import Server, restart_server, stop_server
 from tests.integration._live import device_twin
 from tests.integration._processors import (
+    BLUEPRINTS,
     MS,
     T0,
     create,
     events,
     post,
+    processor,
     processor_server,
     samples_until,
     wait_for,
@@ -223,3 +227,27 @@ def test_a_hung_worker_is_restarted(server: Server) -> None:
     assert "stuck on one batch" in event["message"]
     again = wait_for(server, slug, "stuck", lambda p: p["state"] == "running")
     assert again["pid"] != first["pid"]
+
+
+def test_processors_come_back_after_a_server_restart(tmp_path: Path) -> None:
+    server = processor_server(tmp_path)
+    try:
+        slug, [device] = device_twin(server)
+        create(server, slug, name="on", blueprint="test-gain", params={"signals": ["x"]})
+        create(server, slug, name="off", blueprint="test-gain", params={"signals": ["x"]},
+               enabled=False)  # fmt: skip
+        wait_for(server, slug, "on", lambda p: p["state"] == "running")
+        pid = processor(server, slug, "on")["pid"]
+    finally:
+        stop_server(server)
+    assert not psutil.pid_exists(pid) or psutil.Process(pid).status() == psutil.STATUS_ZOMBIE
+    server = restart_server(server, {"TWINLINK_BLUEPRINTS_DIR": str(BLUEPRINTS)})
+    try:
+        wait_for(server, slug, "on", lambda p: p["state"] == "running")
+        assert processor(server, slug, "off")["state"] == "stopped"
+        with watching(server, slug, "on") as ws:
+            post(server, device, 5, [{"x": 2.0}])
+            [sample] = samples_until(ws, lambda s: len(s) >= 1)
+        assert sample["values"] == {"x": 4.0, "seen": 1.0}
+    finally:
+        stop_server(server)

@@ -1,0 +1,116 @@
+"""What `twinlink demo` sets up beside the server: the example twins, the simulated Tingen rig,
+and the Tingen FMU (built from its C source) running on the rig's live stream."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator, Awaitable, Callable
+from pathlib import Path
+
+import click
+
+from twinlink.app import Services
+from twinlink.auth.rights import Principal
+
+DEMO_FMU = "Tingen.fmu"
+# The FMU processor of the demo: the rig's tip force in, the simulated tip angle and root
+# stress out, beside the measured angle (the thesis's figure 5.3).
+DEMO_PROCESSOR = {
+    "name": "fmu",
+    "blueprint": "fmu",
+    "source": "telemetry",
+    "inputs": {"F": {"signal": "Input_F_in"}},
+    "params": {"fmu": DEMO_FMU, "outputs": ["theta", "sigma"]},
+}
+
+
+def example_files(folder: Path) -> list[Path]:
+    return sorted(p for p in folder.rglob("*") if p.suffix in (".yaml", ".yml") and p.is_file())
+
+
+async def start_demo_simulator(
+    services: Services, base_url: str
+) -> Callable[[], Awaitable[None]] | None:
+    """Give the Tingen twin a device `tingenSAP` (a fresh token each start) and run the
+    simulated rig against this server; returns the function that stops it."""
+    from twinlink.domain.errors import ConflictError, NotFoundError
+    from twinlink.simulate.runner import run_tingen
+
+    admin = await services.store.get_user_by_name("admin")
+    if admin is None:
+        return None
+    principal = Principal(user=admin)
+    try:
+        try:
+            _, token = await services.devices.create(
+                principal, "tingen", "tingenSAP", "the simulated cantilever rig (make demo)"
+            )
+        except ConflictError:
+            _, token = await services.devices.rotate(principal, "tingen", "tingenSAP")
+    except NotFoundError:
+        return None
+    stop = asyncio.Event()
+    task = asyncio.create_task(run_tingen(base_url, token, stop), name="demo-simulator")
+
+    async def stop_simulator() -> None:
+        stop.set()
+        try:
+            await asyncio.wait_for(task, 3)
+        except Exception:  # the server is going down; the rig's last batches may be lost
+            task.cancel()
+
+    return stop_simulator
+
+
+async def load_examples(services: Services, folder: Path) -> list[str]:
+    """Apply every example document as the admin; already-loaded ones stay unchanged."""
+    from twinlink.domain.errors import ConflictError, DocumentError
+    from twinlink.registry.documents import parse_documents
+
+    admin = await services.store.get_user_by_name("admin")
+    if admin is None:
+        return []
+    principal = Principal(user=admin)
+    loaded = []
+    for path in example_files(folder):
+        try:
+            docs = parse_documents(path.read_bytes(), "application/yaml", 1 << 24)
+            for result in await services.registry.apply(principal, docs):
+                loaded.append(f"{result.twin.slug} ({result.outcome})")
+        except (DocumentError, ConflictError) as err:
+            click.echo(f"example {path} was not loaded: {err}", err=True)
+    return loaded
+
+
+async def _admin(services: Services) -> Principal | None:
+    admin = await services.store.get_user_by_name("admin")
+    return None if admin is None else Principal(user=admin)
+
+
+async def start_demo_fmu(services: Services, examples: Path) -> str | None:
+    """Build the Tingen FMU, upload it to the tingen twin and create its processor (once);
+    a line for the welcome text, or None when there is no tingen twin."""
+    from twinlink.domain.errors import ConflictError, NotFoundError
+    from twinlink.processors.fmubuild import FmuBuildError, build_if_stale
+
+    principal = await _admin(services)
+    source = examples / "tingen" / "fmu"
+    if principal is None or not source.is_dir():
+        return None
+    built = services.fmus.root / "build" / DEMO_FMU
+    try:
+        await asyncio.to_thread(build_if_stale, source, built)
+        await services.fmus.upload(principal, "tingen", DEMO_FMU, _chunks(built))
+        await services.processors.create(principal, "tingen", dict(DEMO_PROCESSOR))
+    except NotFoundError:
+        return None
+    except ConflictError:
+        pass  # made by an earlier `make demo`; it keeps its settings
+    except FmuBuildError as err:
+        click.echo(f"the Tingen FMU was not built: {err}", err=True)
+        return None
+    return "The Tingen FMU runs on the rig's stream (processor fmu, stream fmu)."
+
+
+async def _chunks(path: Path) -> AsyncIterator[bytes]:
+    yield await asyncio.to_thread(path.read_bytes)
