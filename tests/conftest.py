@@ -130,3 +130,36 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
         yield srv
     finally:
         stop_server(srv)
+
+
+FMU_SOURCES = {
+    "tingen": EXAMPLES / "tingen" / "fmu",
+    "tingen3": EXAMPLES / "tingen" / "fmu3",
+    "crash": ROOT / "tests" / "fmus" / "crash",
+    "leak": ROOT / "tests" / "fmus" / "leak",
+    "status": ROOT / "tests" / "fmus" / "status",
+}
+
+
+class FmuFiles:
+    """Builds the FMUs the tests use from their C sources, each at most once per session."""
+
+    def __init__(self, out_dir: Path) -> None:
+        self.out_dir = out_dir
+        self.built: dict[str, Path] = {}
+
+    def __call__(self, name: str) -> Path:
+        from twinlink.processors.fmubuild import build_fmu
+
+        if name not in FMU_SOURCES:
+            raise ValueError(f"unknown test FMU {name!r}; one of {sorted(FMU_SOURCES)}")
+        if name not in self.built:
+            self.built[name] = build_fmu(FMU_SOURCES[name], self.out_dir / f"{name}.fmu")
+        return self.built[name]
+
+
+@pytest.fixture(scope="session")
+def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
+    """`fmu_files(name)` is the path of the built FMU: "tingen" (FMI 2.0, examples/tingen/fmu),
+    "tingen3" (FMI 3.0, examples/tingen/fmu3), or "crash", "leak", "status" (tests/fmus)."""
+    return FmuFiles(tmp_path_factory.mktemp("fmus"))

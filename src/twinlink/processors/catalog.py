@@ -34,11 +34,23 @@ BlueprintClass = type[Blueprint[Any]]
 
 @dataclass(slots=True)
 class Entry:
+    """A blueprint found; an installed one is imported only when first needed (its
+    dependencies, SciPy or FMPy, are heavy), so starting the server stays fast."""
+
     name: str
     ref: dict[str, str]
     source: str  # "installed" or "folder"
-    cls: BlueprintClass | None = None
+    _cls: BlueprintClass | None = None
     error: str | None = None
+
+    @property
+    def cls(self) -> BlueprintClass | None:
+        if self._cls is None and self.error is None:
+            try:
+                self._cls = load_ref(self.ref)
+            except Exception as err:  # a broken plug-in is listed, never fatal
+                self.error = f"{type(err).__name__}: {err}"
+        return self._cls
 
     def view(self) -> dict[str, Any]:
         if self.cls is None:
@@ -68,12 +80,7 @@ def discover(folder: Path | None) -> dict[str, Entry]:
     """Every blueprint, installed ones first; a folder blueprint may not shadow one of them."""
     found: dict[str, Entry] = {}
     for ep in entry_points(group=GROUP):
-        entry = Entry(ep.name, {"entry": ep.value}, "installed")
-        try:
-            entry.cls = load_ref(entry.ref)
-        except Exception as err:  # a broken plug-in is listed, never fatal
-            entry.error = f"{type(err).__name__}: {err}"
-        found[ep.name] = entry
+        found[ep.name] = Entry(ep.name, {"entry": ep.value}, "installed")
     if folder is not None and folder.is_dir():
         for entry in _folder_entries(folder):
             if entry.name in found:
@@ -110,10 +117,10 @@ def _module_entries(path: Path) -> list[Entry]:
             and value.name
         ):
             ref = {"path": str(path.resolve()), "class": attr}
-            entries.append(Entry(value.name, ref, "folder", cls=value))
+            entries.append(Entry(value.name, ref, "folder", _cls=value))
     if not entries and inspect.isclass(getattr(module, "P", None)):
         ref = {"path": str(path.resolve()), "tvilling": path.stem}
-        entries.append(Entry(path.stem, ref, "folder", cls=load_ref(ref)))
+        entries.append(Entry(path.stem, ref, "folder", _cls=load_ref(ref)))
     return entries
 
 

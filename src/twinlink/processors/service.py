@@ -78,6 +78,8 @@ class ProcessorService:
         for record in await self.store.list_processors():
             if record.enabled:
                 self._host(record)
+        # Import the installed blueprints now, off the event loop, not at the first request.
+        self._spawn(asyncio.to_thread(lambda: [e.cls for e in self.catalog.values()]))
 
     async def close(self) -> None:
         await asyncio.gather(*(self._unhost(pid) for pid in list(self.hosted)))
@@ -208,7 +210,7 @@ class ProcessorService:
             samples_subject(record.twin_id, spec.source), on_batch
         )
         self.hosted[record.id] = hosted
-        if entry is None or entry.cls is None:
+        if entry is None:
             why = f"blueprint {record.blueprint!r} is not available"
             supervisor.last_error = why
             self._record_events(record, [("failed", why, time.time_ns(), {})])

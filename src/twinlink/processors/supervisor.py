@@ -279,6 +279,8 @@ class Supervisor:
                 if kind == "out":
                     await self._took_output(message)
                 elif kind == "configured" and self._configured is not None:
+                    if message["kept_state"]:
+                        self.info = {k: message[k] for k in ("inputs", "outputs", "describe")}
                     if not self._configured.done():
                         self._configured.set_result(bool(message["kept_state"]))
                 elif kind == "failed":

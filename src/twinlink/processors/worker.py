@@ -58,15 +58,7 @@ def serve(channel: BlockingChannel) -> int:
     except Exception as err:
         return _fail(channel, "start", err)
     blueprint = runtime.blueprint
-    channel.send(
-        {
-            "t": "ready",
-            "pid": os.getpid(),
-            "inputs": blueprint.inputs(),
-            "outputs": blueprint.outputs(),
-            "describe": blueprint.describe(),
-        }
-    )
+    channel.send({"t": "ready", "pid": os.getpid(), **_described(blueprint)})
     while True:
         message = channel.receive()
         kind = message["t"]
@@ -85,13 +77,22 @@ def serve(channel: BlockingChannel) -> int:
                 kept = blueprint.reconfigure(params)
             except Exception as err:
                 return _fail(channel, "reconfigure", err)
-            channel.send({"t": "configured", "kept_state": kept})
+            # New parameters may change the inputs and outputs of a blueprint that kept state.
+            channel.send({"t": "configured", "kept_state": kept, **_described(blueprint)})
         elif kind == "stop":
             try:
                 blueprint.stop()
             finally:
                 channel.send({"t": "stopped"})
             return 0
+
+
+def _described(blueprint: Blueprint[Any]) -> dict[str, Any]:
+    return {
+        "inputs": blueprint.inputs(),
+        "outputs": blueprint.outputs(),
+        "describe": blueprint.describe(),
+    }
 
 
 def _fail(channel: BlockingChannel, where: str, err: Exception) -> int:

@@ -1,0 +1,1 @@
+../cantilever.h
