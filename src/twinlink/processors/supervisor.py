@@ -120,7 +120,7 @@ class Supervisor:
 
     def feed(self, batch: Batch, arrived: float) -> None:
         """Queue input for the worker (`arrived`: perf_counter when it reached the server)."""
-        if self.state != "running":
+        if self.state not in ("running", "starting"):  # a worker that starts gets it soon
             self.stats.dropped += len(batch)
             return
         self._pending.append((batch, arrived))
