@@ -251,3 +251,16 @@ def test_processors_come_back_after_a_server_restart(tmp_path: Path) -> None:
         assert sample["values"] == {"x": 4.0, "seen": 1.0}
     finally:
         stop_server(server)
+
+
+def test_a_worker_that_does_not_stop_is_stopped_by_force(server: Server) -> None:
+    slug, [device] = device_twin(server)
+    create(server, slug, name="stuck", blueprint="test-stuck", params={"signal": "x"})
+    pid = wait_for(server, slug, "stuck", lambda p: p["state"] == "running")["pid"]
+    post(server, device, 1, [{"x": 1.0}])  # the worker never returns from this batch
+    wait_for(server, slug, "stuck", lambda p: p["stats"]["samples_in"] == 1)
+    with server.admin as admin:
+        r = admin.post(f"/api/v1/twins/{slug}/processors/stuck/stop")
+    assert r.status_code == 200 and r.json()["state"] == "stopped", r.text
+    assert not psutil.pid_exists(pid) or psutil.Process(pid).status() == psutil.STATUS_ZOMBIE
+    assert events(server, slug, "stuck", "hung") == []  # a stop, not a crash
