@@ -17,6 +17,7 @@ setup: $(STAMP)
 
 $(STAMP): pyproject.toml edge/pyproject.toml
 	@scripts/ensure-python.sh $(PYTHON)
+	@scripts/ensure-packages.sh gcc libc6-dev   # FMUs are built from C source
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ./edge -e ".[dev]"
