@@ -10,9 +10,10 @@ from pathlib import Path
 from typing import Any
 
 import orjson
+import pytest
 from websockets.sync.client import ClientConnection, connect
 
-from tests.conftest import ROOT, Server, start_server
+from tests.conftest import ROOT, Server, start_server, stop_server
 from tests.integration._live import TIMEOUT_S, ws_url
 
 BLUEPRINTS = ROOT / "tests" / "blueprints"
@@ -22,6 +23,16 @@ MS = 1_000_000
 
 def processor_server(data_dir: Path, **env: str) -> Server:
     return start_server(data_dir, {"TWINLINK_BLUEPRINTS_DIR": str(BLUEPRINTS), **env})
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    """A server with the test blueprints folder, for the tests of one module."""
+    srv = processor_server(tmp_path_factory.mktemp("data"))
+    try:
+        yield srv
+    finally:
+        stop_server(srv)
 
 
 @contextmanager

@@ -4,11 +4,10 @@ loop by commanding the device, and a blueprint written for the original platform
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Iterator
 
 import pytest
 
-from tests.conftest import Server, stop_server
+from tests.conftest import Server
 from tests.integration._device import FakeDevice
 from tests.integration._live import device_twin
 from tests.integration._processors import (
@@ -17,22 +16,13 @@ from tests.integration._processors import (
     create,
     events,
     post,
-    processor_server,
     samples_until,
     wait_for,
     watching,
 )
+from tests.integration._processors import server as server  # module fixture
 
 pytestmark = pytest.mark.integration
-
-
-@pytest.fixture(scope="module")
-def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    srv = processor_server(tmp_path_factory.mktemp("data"))
-    try:
-        yield srv
-    finally:
-        stop_server(srv)
 
 
 async def test_an_alarm_sends_a_command_to_the_device(server: Server) -> None:

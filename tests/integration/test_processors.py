@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import psutil
@@ -23,18 +22,10 @@ from tests.integration._processors import (
     wait_for,
     watching,
 )
+from tests.integration._processors import server as server  # module fixture
 from tests.integration._util import make_user, unique
 
 pytestmark = pytest.mark.integration
-
-
-@pytest.fixture(scope="module")
-def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    srv = processor_server(tmp_path_factory.mktemp("data"))
-    try:
-        yield srv
-    finally:
-        stop_server(srv)
 
 
 def test_a_processor_turns_a_stream_into_another(server: Server) -> None:
