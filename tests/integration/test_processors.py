@@ -152,6 +152,10 @@ def test_stop_start_and_delete(server: Server) -> None:
           "output": "telemetry"}, 422, "cannot write the stream it reads"),
         ({"name": "p", "blueprint": "test-gain", "params": {"signals": ["x"]},
           "rates": {"min_input_spacing_s": -1}}, 422, "min_input_spacing_s"),
+        ({"name": "p", "blueprint": "expression",
+          "params": {"outputs": {"y": "x.__class__"}}}, 422, "attribute access is not allowed"),
+        ({"name": "p", "blueprint": "lowpass", "params": {"signals": ["x"], "cutoff_hz": 80,
+          "sample_rate_hz": 100}}, 422, "Nyquist"),
     ],
 )  # fmt: skip
 def test_bad_processors_are_refused_with_a_reason(

@@ -154,6 +154,12 @@ class Blueprint(Generic[P]):
         self.params = params
         self.ctx = ctx
 
+    @classmethod
+    def check(cls, params: Any) -> None:
+        """Refuse parameters that cannot work before a processor is made with them, so the
+        person gets a 422 instead of a worker that fails to start. Cheap checks only (no
+        files, no native code); raise BlueprintError saying what to change."""
+
     def inputs(self) -> list[str]:
         """The signals the blueprint reads, with these parameters."""
         return []

@@ -28,7 +28,7 @@ from twinlink.domain.errors import (
 )
 from twinlink.domain.samples import SampleBatch
 from twinlink.ingest.service import IngestService
-from twinlink.processors.blueprint import Batch
+from twinlink.processors.blueprint import Batch, BlueprintError
 from twinlink.processors.catalog import Entry, discover
 from twinlink.processors.convert import to_columns, to_samples
 from twinlink.processors.spec import ProcessorSpec
@@ -317,9 +317,11 @@ class ProcessorService:
         if entry.cls is None:
             raise InvalidInputError(f"blueprint {spec.blueprint!r} is broken: {entry.error}")
         try:
-            entry.cls.Params.model_validate(spec.params)
+            entry.cls.check(entry.cls.Params.model_validate(spec.params))
         except ValidationError as err:
             raise InvalidInputError("params: " + _first_errors(err)) from None
+        except BlueprintError as err:
+            raise InvalidInputError(f"params: {err}") from None
         if spec.output_stream == spec.source:
             raise InvalidInputError("a processor cannot write the stream it reads")
         return spec

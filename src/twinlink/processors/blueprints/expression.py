@@ -255,6 +255,10 @@ class Expression(Blueprint[ExpressionParams]):
         super().__init__(params, ctx)
         self._compiled, self._inputs = compile_outputs(params)
 
+    @classmethod
+    def check(cls, params: Any) -> None:
+        compile_outputs(params)
+
     def inputs(self) -> list[str]:
         return list(self._inputs)
 

@@ -105,6 +105,10 @@ class _Butterworth(Blueprint[FP]):
         self._sos = design(params, self.btype)
         self._zi: dict[str, Array] = {}
 
+    @classmethod
+    def check(cls, params: Any) -> None:
+        design(params, cls.btype)  # a cut-off at or above Nyquist is refused here
+
     def inputs(self) -> list[str]:
         return list(self.params.signals)
 
