@@ -100,6 +100,7 @@ def _fill(path: str, world: World, slug: str) -> str:
         "device": "some-device",
         "stream": "telemetry",
         "command_id": "some-command",
+        "name": "some-name",
     }
 
     def sub(m: re.Match[str]) -> str:
