@@ -18,13 +18,10 @@ import pytest
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (
     FMU2Slave,
-    fmi2CallbackAllocateMemoryTYPE,
-    fmi2CallbackFreeMemoryTYPE,
-    fmi2CallbackFunctions,
-    fmi2CallbackLoggerTYPE,
 )
 
 from tests.conftest import FmuFiles
+from tests.unit._fmi2_log import Fmi2Log
 
 # Run in a child: instantiate the FMU, set the given Real variables, initialize, set the input u
 # (value reference 0), take `steps` steps of 0.1 s and print the outputs and the RSS as JSON.
@@ -153,27 +150,6 @@ def test_the_leak_fmu_grows_the_resident_memory_by_mb_per_step(
 # --------------------------------------------------------------------------------------------
 # status: fmi2Error with a logged message for u < 0, fmi2Fatal for NaN
 # --------------------------------------------------------------------------------------------
-
-
-class Fmi2Log:
-    """fmi2 callbacks whose logger collects (status, category, message).
-
-    Without fmpy.logging.addLoggerProxy on purpose: the proxy keeps one global slot for the
-    Python logger, shared by every FMU in the process. The test FMUs format their messages.
-    """
-
-    def __init__(self) -> None:
-        self.messages: list[tuple[int, str, str]] = []
-        self.logger = fmi2CallbackLoggerTYPE(self._log)
-        self.callbacks = fmi2CallbackFunctions()
-        self.callbacks.logger = self.logger
-        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
-        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(fmpy.free)
-
-    def _log(
-        self, env: object, instance: bytes, status: int, category: bytes, message: bytes
-    ) -> None:
-        self.messages.append((status, category.decode(), message.decode()))
 
 
 @pytest.mark.parametrize(

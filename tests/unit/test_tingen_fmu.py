@@ -17,15 +17,12 @@ import pytest
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (
     FMU2Slave,
-    fmi2CallbackAllocateMemoryTYPE,
-    fmi2CallbackFreeMemoryTYPE,
-    fmi2CallbackFunctions,
-    fmi2CallbackLoggerTYPE,
 )
 from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
 from tests.conftest import FmuFiles
+from tests.unit._fmi2_log import Fmi2Log
 
 # NTNU thesis, table 3.1
 L = 0.300  # m
@@ -197,31 +194,6 @@ def test_the_fmu_passes_fmpy_validation(fmu_files: FmuFiles, name: str) -> None:
 # --------------------------------------------------------------------------------------------
 # The FMI interface: errors are refused and logged
 # --------------------------------------------------------------------------------------------
-
-
-class Fmi2Log:
-    """fmi2 callbacks whose logger collects (status, category, message).
-
-    Deliberately without fmpy.logging.addLoggerProxy: that proxy keeps ONE global slot for the
-    Python logger, so the last call wins for every FMU in the process and the callback would have
-    to outlive them all. These FMUs format their messages themselves, so none is needed.
-    """
-
-    def __init__(self) -> None:
-        self.messages: list[tuple[int, str, str]] = []
-        self.logger = fmi2CallbackLoggerTYPE(self._log)
-        self.callbacks = fmi2CallbackFunctions()
-        self.callbacks.logger = self.logger
-        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
-        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(fmpy.free)
-
-    def _log(
-        self, env: object, instance: bytes, status: int, category: bytes, message: bytes
-    ) -> None:
-        self.messages.append((status, category.decode(), message.decode()))
-
-    def text(self) -> str:
-        return "\n".join(message for _, _, message in self.messages)
 
 
 def open_fmi2(path: Path, unzipdir: Path, guid: str | None = None) -> tuple[FMU2Slave, Fmi2Log]:

@@ -29,10 +29,10 @@ import logging
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar, Generic, TypeVar
+from typing import Annotated, Any, ClassVar, Generic, TypeVar
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict
+from pydantic import AfterValidator, BaseModel, ConfigDict
 
 P = TypeVar("P", bound=BaseModel)
 
@@ -45,6 +45,17 @@ class Params(BaseModel):
 
 class NoParams(Params):
     pass
+
+
+def distinct(names: list[Any]) -> list[Any]:
+    """Refuse a list that names something twice (a parameter validator)."""
+    if len(set(names)) != len(names):
+        raise ValueError("a name is listed twice")
+    return names
+
+
+# A parameter that lists signals (or other names), each at most once.
+Names = Annotated[list[str], AfterValidator(distinct)]
 
 
 class BlueprintError(Exception):

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import Field, field_validator, model_validator
 
-from twinlink.processors.blueprint import Batch, Blueprint, Context, Params
+from twinlink.processors.blueprint import Batch, Blueprint, Context, Names, Params
 
 Array = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]
@@ -28,7 +28,7 @@ CHUNK = 1 << 22  # samples transformed at once, at most
 
 
 class SpectrumParams(Params):
-    signals: list[str] = Field(min_length=1, description="The signals to analyse.")
+    signals: Names = Field(min_length=1, description="The signals to analyse.")
     window_samples: int = Field(
         1024, ge=16, le=65536, description="Frame length in samples: a power of two."
     )
@@ -57,13 +57,6 @@ class SpectrumParams(Params):
         if n & (n - 1):
             raise ValueError(f"window_samples must be a power of two, not {n}")
         return n
-
-    @field_validator("signals")
-    @classmethod
-    def _distinct(cls, signals: list[str]) -> list[str]:
-        if len(set(signals)) != len(signals):
-            raise ValueError("a signal is listed twice")
-        return signals
 
     @model_validator(mode="after")
     def _bins_fit(self) -> SpectrumParams:

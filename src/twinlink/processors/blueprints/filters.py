@@ -12,10 +12,17 @@ from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 import numpy.typing as npt
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, model_validator
 from scipy import signal as sps  # type: ignore[import-untyped]
 
-from twinlink.processors.blueprint import Batch, Blueprint, BlueprintError, Context, Params
+from twinlink.processors.blueprint import (
+    Batch,
+    Blueprint,
+    BlueprintError,
+    Context,
+    Names,
+    Params,
+)
 
 Array = npt.NDArray[np.float64]
 
@@ -23,7 +30,7 @@ Array = npt.NDArray[np.float64]
 class FilterParams(Params):
     """What every Butterworth filter takes; the subclasses add the cut-off frequencies."""
 
-    signals: list[str] = Field(min_length=1, description="The signals to filter.")
+    signals: Names = Field(min_length=1, description="The signals to filter.")
     order: int = Field(
         4,
         ge=1,
@@ -41,13 +48,6 @@ class FilterParams(Params):
         description="Appended to each signal name to name its output; empty: the output has "
         "the signal's own name.",
     )
-
-    @field_validator("signals")
-    @classmethod
-    def _distinct(cls, signals: list[str]) -> list[str]:
-        if len(set(signals)) != len(signals):
-            raise ValueError("a signal is listed twice")
-        return signals
 
     def edges(self) -> list[float]:
         """The cut-off frequencies in Hz."""

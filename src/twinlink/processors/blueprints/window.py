@@ -8,13 +8,13 @@ table, so a batch costs O((tail + batch) log window) whatever the window length.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 import numpy.typing as npt
-from pydantic import Field, field_validator, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
-from twinlink.processors.blueprint import Batch, Blueprint, Context, Params
+from twinlink.processors.blueprint import Batch, Blueprint, Context, Names, Params, distinct
 
 Array = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]
@@ -28,8 +28,8 @@ def _mean() -> list[Function]:
 
 
 class WindowParams(Params):
-    signals: list[str] = Field(min_length=1, description="The signals to aggregate.")
-    functions: list[Function] = Field(
+    signals: Names = Field(min_length=1, description="The signals to aggregate.")
+    functions: Annotated[list[Function], AfterValidator(distinct)] = Field(
         default_factory=_mean,
         min_length=1,
         description="Aggregates to compute: mean, rms (root mean square), min, max, p2p "
@@ -56,13 +56,6 @@ class WindowParams(Params):
         "Otherwise one output per interval that had samples, at its end (a multiple of hop_s "
         "since the epoch), made when the first sample after it arrives.",
     )
-
-    @field_validator("signals", "functions")
-    @classmethod
-    def _distinct(cls, names: list[str]) -> list[str]:
-        if len(set(names)) != len(names):
-            raise ValueError("a name is listed twice")
-        return names
 
     @model_validator(mode="after")
     def _one_window(self) -> WindowParams:
