@@ -259,3 +259,18 @@ def test_a_worker_that_does_not_stop_is_stopped_by_force(server: Server) -> None
     assert r.status_code == 200 and r.json()["state"] == "stopped", r.text
     assert not psutil.pid_exists(pid) or psutil.Process(pid).status() == psutil.STATUS_ZOMBIE
     assert events(server, slug, "stuck", "hung") == []  # a stop, not a crash
+
+
+def test_new_inputs_are_read_from_the_next_batch(server: Server) -> None:
+    slug, [device] = device_twin(server)
+    create(server, slug, name="g", blueprint="test-gain", params={"signals": ["x"]})
+    wait_for(server, slug, "g", lambda p: p["state"] == "running")
+    with server.admin as admin:
+        changes = {"inputs": {"x": {"signal": "y", "scale": 10}}, "output": "g2"}
+        r = admin.patch(f"/api/v1/twins/{slug}/processors/g", json=changes)
+    assert r.status_code == 200 and r.json()["kept_state"] is False, r.text
+    wait_for(server, slug, "g", lambda p: p["state"] == "running")
+    with watching(server, slug, "g2") as ws:
+        post(server, device, 1, [{"x": 1.0, "y": 0.5}])
+        [sample] = samples_until(ws, lambda s: len(s) >= 1)
+    assert sample["values"] == {"x": 10.0, "seen": 1.0}  # 0.5 * 10 * 2, in the new stream

@@ -46,6 +46,15 @@ class Hosted:
     record: ProcessorRecord
     supervisor: Supervisor
     unsubscribe: Any = None
+    _wanted: tuple[object, object, list[str] | None] = (None, None, None)
+
+    def wanted(self) -> list[str] | None:
+        """The source signals the running blueprint reads (None: all, until it has said);
+        worked out again only when the spec or the running blueprint changed."""
+        spec, info = self.record.spec, self.supervisor.info
+        if self._wanted[0] is not spec or self._wanted[1] is not info:
+            self._wanted = (spec, info, _wanted(_spec_of(self.record), info))
+        return self._wanted[2]
 
 
 class ProcessorService:
@@ -198,17 +207,13 @@ class ProcessorService:
             on_commands=partial(self._send_commands, record),
         )
         hosted = Hosted(record, supervisor)
-        spec = _spec_of(record)
 
         def on_batch(subject: str, batch: object) -> None:
             if isinstance(batch, SampleBatch):
-                supervisor.feed(
-                    to_columns(batch, _wanted(spec, supervisor.info)), time.perf_counter()
-                )
+                supervisor.feed(to_columns(batch, hosted.wanted()), time.perf_counter())
 
-        hosted.unsubscribe = self.bus.subscribe(
-            samples_subject(record.twin_id, spec.source), on_batch
-        )
+        source = _spec_of(record).source  # a new source hosts the processor anew
+        hosted.unsubscribe = self.bus.subscribe(samples_subject(record.twin_id, source), on_batch)
         self.hosted[record.id] = hosted
         if entry is None:
             why = f"blueprint {record.blueprint!r} is not available"
@@ -252,7 +257,7 @@ class ProcessorService:
         )
 
     async def _publish(self, record: ProcessorRecord, out: Batch) -> None:
-        stream = _spec_of(record).output_stream
+        stream = record.spec.get("output") or record.name
         source = f"processor:{record.name}"
         await self.ingest.publish_first(
             to_samples(out, record.twin_id, record.twin_slug, stream, source)
