@@ -99,7 +99,9 @@ def build_services(settings: Settings) -> Services:
         processors=ProcessorService(
             store, registry, bus, ingest, commands, settings.data_dir, settings.blueprints_dir
         ),
-        fmus=FmuService(store, registry, settings.data_dir, settings.fmu_max_mb * 2**20),
+        fmus=FmuService(
+            store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders
+        ),
     )
 
 

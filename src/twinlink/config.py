@@ -98,6 +98,11 @@ class Settings(BaseSettings):
         "Tvilling digital style `class P` included) [<data_dir>/blueprints].",
     )
     fmu_max_mb: int = Field(512, gt=0, description="Largest FMU file an upload may be, in MB.")
+    fmu_uploaders: Literal["admins", "editors"] = Field(
+        "admins",
+        description="Who may upload and delete FMUs: admins, or also editors of the twin. An "
+        "FMU is native code that runs in a worker process under the server's user.",
+    )
 
     @classmethod
     def settings_customise_sources(

@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from tests.conftest import FmuFiles, Server
+from tests.conftest import FmuFiles, Server, stop_server
 from tests.integration._live import device_twin
 from tests.integration._processors import (
     MS,
@@ -17,11 +17,13 @@ from tests.integration._processors import (
     create,
     events,
     post,
+    processor_server,
     samples_until,
     wait_for,
     watching,
 )
 from tests.integration._processors import server as server  # module fixture
+from tests.integration._util import make_user, unique
 
 pytestmark = pytest.mark.integration
 
@@ -164,3 +166,30 @@ def test_an_fmu_in_use_cannot_be_deleted(server: Server, fmu_files: FmuFiles) ->
         assert admin.delete(f"/api/v1/twins/{slug}/processors/sim").status_code == 204
         assert admin.delete(f"/api/v1/twins/{slug}/fmus/T.fmu").status_code == 204
         assert admin.get(f"/api/v1/twins/{slug}/fmus/T.fmu").status_code == 404
+
+
+def test_only_admins_upload_fmus_unless_editors_are_allowed(
+    server: Server, fmu_files: FmuFiles, tmp_path: Path
+) -> None:
+    slug, _ = device_twin(server)
+    name = unique("editor")
+    token = make_user(server, name)
+    with server.admin as admin:
+        assert admin.put(f"/api/v1/twins/{slug}/roles/{name}", json={"role": "editor"}).is_success
+    body = fmu_files("tingen").read_bytes()
+    with server.client(token) as editor:
+        r = editor.put(f"/api/v1/twins/{slug}/fmus/T.fmu", content=body)
+        assert r.status_code == 403 and "native code" in r.text, r.text
+    other = processor_server(tmp_path, TWINLINK_FMU_UPLOADERS="editors")
+    try:
+        slug, _ = device_twin(other)
+        token = make_user(other, name)
+        with other.admin as admin:
+            assert admin.put(
+                f"/api/v1/twins/{slug}/roles/{name}", json={"role": "editor"}
+            ).is_success
+        with other.client(token) as editor:
+            r = editor.put(f"/api/v1/twins/{slug}/fmus/T.fmu", content=body)
+            assert r.status_code == 201, r.text
+    finally:
+        stop_server(other)

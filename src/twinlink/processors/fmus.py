@@ -47,12 +47,18 @@ def fmu_view(record: FmuRecord, variables: bool = False) -> dict[str, Any]:
 
 class FmuService:
     def __init__(
-        self, store: MetadataStore, registry: RegistryService, data_dir: Path, max_bytes: int
+        self,
+        store: MetadataStore,
+        registry: RegistryService,
+        data_dir: Path,
+        max_bytes: int,
+        uploaders: str = "admins",
     ) -> None:
         self.store = store
         self.registry = registry
         self.root = Path(data_dir) / "fmus"
         self.max_bytes = max_bytes
+        self.uploaders = uploaders
 
     def folder(self, twin_id: int) -> Path:
         return self.root / str(twin_id)
@@ -117,6 +123,11 @@ class FmuService:
         twin, role = await self.registry.require_twin(principal, slug)
         if needed == "editor" and not has_role(principal, role, "editor"):
             raise ForbiddenError(f"uploading or deleting FMUs of {slug!r} needs the editor role")
+        if needed == "editor" and self.uploaders == "admins" and not principal.is_admin:
+            raise ForbiddenError(
+                "an FMU is native code that runs on the server, so only admins upload and "
+                "delete FMUs here (TWINLINK_FMU_UPLOADERS=editors lets editors of the twin)"
+            )
         return twin
 
 
