@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import threading
 
 import numpy as np
@@ -95,3 +96,17 @@ class Stuck(Blueprint[HogParams]):
         if (batch.columns.get(self.params.signal, np.empty(0)) > 0).any():
             threading.Event().wait()  # forever
         return batch
+
+
+class Snoop(Blueprint[HogParams]):
+    """Reports how many TWINLINK_ settings it can see in its environment (there should be none)."""
+
+    name = "test-snoop"
+    Params = HogParams
+
+    def inputs(self) -> list[str]:
+        return [self.params.signal]
+
+    def process(self, batch: Batch) -> Batch | None:
+        seen = sum(1 for k in os.environ if k.startswith("TWINLINK_"))
+        return batch.with_columns({"settings_seen": np.full(len(batch), float(seen))})

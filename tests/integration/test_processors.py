@@ -274,3 +274,13 @@ def test_new_inputs_are_read_from_the_next_batch(server: Server) -> None:
         post(server, device, 1, [{"x": 1.0, "y": 0.5}])
         [sample] = samples_until(ws, lambda s: len(s) >= 1)
     assert sample["values"] == {"x": 10.0, "seen": 1.0}  # 0.5 * 10 * 2, in the new stream
+
+
+def test_workers_do_not_see_the_servers_settings(server: Server) -> None:
+    slug, [device] = device_twin(server)
+    create(server, slug, name="snoop", blueprint="test-snoop", params={"signal": "x"})
+    wait_for(server, slug, "snoop", lambda p: p["state"] == "running")
+    with watching(server, slug, "snoop") as ws:
+        post(server, device, 1, [{"x": 1.0}])
+        [sample] = samples_until(ws, lambda s: len(s) >= 1)
+    assert sample["values"] == {"settings_seen": 0.0}  # the server has TWINLINK_ADMIN_TOKEN

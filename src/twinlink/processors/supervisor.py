@@ -13,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import os
 import signal
 import socket
 import sys
@@ -74,6 +75,12 @@ class WorkerConfig:
     @property
     def max_pending(self) -> int:
         return max(100_000, 10 * int(self.rates.get("max_batch", 10_000)))
+
+
+def worker_environment() -> dict[str, str]:
+    """The server's environment without its settings: a worker runs uploaded code, and the
+    settings may hold the first admin's password and token."""
+    return {k: v for k, v in os.environ.items() if not k.startswith("TWINLINK_")}
 
 
 class Supervisor:
@@ -197,7 +204,7 @@ class Supervisor:
             sys.executable, "-m", "twinlink.processors.worker", str(child.fileno()),
             pass_fds=(child.fileno(),), stdin=asyncio.subprocess.DEVNULL,
             stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.STDOUT,
-            start_new_session=True,
+            start_new_session=True, env=worker_environment(),
         )  # fmt: skip
         child.close()
         self._proc, self.pid = proc, proc.pid
