@@ -97,7 +97,14 @@ def build_services(settings: Settings) -> Services:
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,
         processors=ProcessorService(
-            store, registry, bus, ingest, commands, settings.data_dir, settings.blueprints_dir
+            store,
+            registry,
+            bus,
+            ingest,
+            commands,
+            settings.data_dir,
+            settings.blueprints_dir,
+            settings.max_processors,
         ),
         fmus=FmuService(
             store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders

@@ -97,6 +97,12 @@ class Settings(BaseSettings):
         description="A folder of extra blueprints (`name.py` files or `name/` packages, "
         "Tvilling digital style `class P` included) [<data_dir>/blueprints].",
     )
+    max_processors: int = Field(
+        64,
+        ge=0,
+        description="Processors that may run at once on this server (each is a worker process "
+        "of about 60 MB); creating or starting one more answers 409.",
+    )
     fmu_max_mb: int = Field(512, gt=0, description="Largest FMU file an upload may be, in MB.")
     fmu_uploaders: Literal["admins", "editors"] = Field(
         "admins",

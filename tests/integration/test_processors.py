@@ -284,3 +284,22 @@ def test_workers_do_not_see_the_servers_settings(server: Server) -> None:
         post(server, device, 1, [{"x": 1.0}])
         [sample] = samples_until(ws, lambda s: len(s) >= 1)
     assert sample["values"] == {"settings_seen": 0.0}  # the server has TWINLINK_ADMIN_TOKEN
+
+
+def test_the_server_runs_at_most_max_processors(tmp_path: Path) -> None:
+    small = processor_server(tmp_path, TWINLINK_MAX_PROCESSORS="1")
+    try:
+        slug, _ = device_twin(small)
+        create(small, slug, name="one", blueprint="test-gain", params={"signals": ["x"]})
+        with small.admin as admin:
+            spec = {"name": "two", "blueprint": "test-gain", "params": {"signals": ["x"]}}
+            r = admin.post(f"/api/v1/twins/{slug}/processors", json=spec)
+            assert r.status_code == 409 and "TWINLINK_MAX_PROCESSORS" in r.text, r.text
+            r = admin.post(f"/api/v1/twins/{slug}/processors", json={**spec, "enabled": False})
+            assert r.status_code == 201, r.text
+            assert admin.post(f"/api/v1/twins/{slug}/processors/two/start").status_code == 409
+            assert admin.post(f"/api/v1/twins/{slug}/processors/one/stop").status_code == 200
+            r = admin.post(f"/api/v1/twins/{slug}/processors/two/start")
+            assert r.status_code == 200 and r.json()["enabled"] is True, r.text
+    finally:
+        stop_server(small)

@@ -67,6 +67,7 @@ class ProcessorService:
         commands: CommandService,
         data_dir: Path,
         blueprints_dir: Path | None,
+        max_running: int = 64,
     ) -> None:
         self.store = store
         self.registry = registry
@@ -75,6 +76,7 @@ class ProcessorService:
         self.commands = commands
         self.data_dir = Path(data_dir)
         self.blueprints_dir = blueprints_dir or self.data_dir / "blueprints"
+        self.max_running = max_running
         self.catalog: dict[str, Entry] = {}
         self.hosted: dict[int, Hosted] = {}
         self._background: set[asyncio.Task[Any]] = set()
@@ -85,8 +87,15 @@ class ProcessorService:
     async def open(self) -> None:
         self.catalog = await asyncio.to_thread(discover, self.blueprints_dir)
         for record in await self.store.list_processors():
-            if record.enabled:
-                self._host(record)
+            if not record.enabled:
+                continue
+            if len(self.hosted) >= self.max_running:
+                log.warning(
+                    "processor %s/%s not started: over max_processors (%d)",
+                    record.twin_slug, record.name, self.max_running,
+                )  # fmt: skip
+                continue
+            self._host(record)
         # Import the installed blueprints now, off the event loop, not at the first request.
         self._spawn(asyncio.to_thread(lambda: [e.cls for e in self.catalog.values()]))
 
@@ -120,6 +129,8 @@ class ProcessorService:
         if any(r.name == spec.name for r in existing):
             raise ConflictError(f"the twin already has a processor {spec.name!r}")
         _check_chain(spec, existing)
+        if spec.enabled:
+            self._check_room()
         user_id = principal.user.id if principal.user else None
         record = await self.store.create_processor(
             twin.id, spec.name, spec.blueprint, spec.stored(), spec.enabled, user_id, time.time_ns()
@@ -141,6 +152,8 @@ class ProcessorService:
         spec = self._checked(merged)
         others = [r for r in await self.store.list_processors(record.twin_id) if r.id != record.id]
         _check_chain(spec, others)
+        if spec.enabled and record.id not in self.hosted:
+            self._check_room()
         await self.store.update_processor(record.id, spec.stored(), spec.enabled, time.time_ns())
         record.spec, record.enabled, record.blueprint = spec.stored(), spec.enabled, spec.blueprint
         kept = await self._apply(record, current, spec)
@@ -330,6 +343,13 @@ class ProcessorService:
         if spec.output_stream == spec.source:
             raise InvalidInputError("a processor cannot write the stream it reads")
         return spec
+
+    def _check_room(self) -> None:
+        if len(self.hosted) >= self.max_running:
+            raise ConflictError(
+                f"this server runs at most {self.max_running} processors at once "
+                "(TWINLINK_MAX_PROCESSORS); stop or delete one first"
+            )
 
     async def _editable(self, principal: Principal, slug: str) -> TwinRecord:
         twin, role = await self.registry.require_twin(principal, slug)
