@@ -74,7 +74,7 @@ class ProcessorService:
         self.bus = bus
         self.ingest = ingest
         self.commands = commands
-        self.data_dir = Path(data_dir)
+        self.data_dir = Path(data_dir).resolve()
         self.blueprints_dir = blueprints_dir or self.data_dir / "blueprints"
         self.max_running = max_running
         self.catalog: dict[str, Entry] = {}

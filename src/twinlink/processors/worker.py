@@ -33,14 +33,15 @@ log = logging.getLogger("twinlink.worker")
 
 def build(init: dict[str, Any]) -> tuple[Runtime, type[Blueprint[Any]]]:
     cls = load_ref(init["ref"])
-    workdir = Path(init["workdir"])
+    # Absolute: FMUs are given their resources as a file URI, which a relative path is not.
+    workdir = Path(init["workdir"]).resolve()
     shutil.rmtree(workdir, ignore_errors=True)
     workdir.mkdir(parents=True)
     rates = Rates.model_validate(init["rates"])
     ctx = Context(
         processor=init["processor"],
         twin=init["twin"],
-        files=Path(init["files"]),
+        files=Path(init["files"]).resolve(),
         workdir=workdir,
         step_spacing_s=rates.min_step_spacing_s,
         log=logging.getLogger(f"twinlink.blueprint.{init['processor']}"),
