@@ -64,7 +64,7 @@ def load_ref(ref: dict[str, str]) -> BlueprintClass:
         module_name, _, attr = ref["entry"].partition(":")
         cls = getattr(importlib.import_module(module_name), attr)
     else:
-        module = _load_path(Path(ref["path"]))
+        module = load_module(Path(ref["path"]))
         if "tvilling" in ref:
             from twinlink.processors.blueprints.tvilling import tvilling_blueprint
 
@@ -107,7 +107,7 @@ def _folder_entries(folder: Path) -> list[Entry]:
 
 
 def _module_entries(path: Path) -> list[Entry]:
-    module = _load_path(path)
+    module = load_module(path)
     entries = []
     for attr, value in vars(module).items():
         if (
@@ -124,7 +124,8 @@ def _module_entries(path: Path) -> list[Entry]:
     return entries
 
 
-def _load_path(path: Path) -> ModuleType:
+def load_module(path: Path) -> ModuleType:
+    """Import a `.py` file or a package folder by its path (once; the same module after)."""
     init = path / "__init__.py" if path.is_dir() else path
     digest = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:12]
     name = f"twinlink_blueprint_{path.stem}_{digest}"

@@ -13,7 +13,6 @@ with `__init__.py` or a single `.py` file and does the same.
 
 from __future__ import annotations
 
-import importlib.util
 import inspect
 import re
 import sys
@@ -242,22 +241,15 @@ def tvilling_blueprint(name: str, p_class: type) -> type[Blueprint[Any]]:
 
 def load_tvilling(path: Path, name: str | None = None) -> type[Blueprint[Any]]:
     """Loads a Tvilling digital blueprint (a folder with `__init__.py`, or a `.py` file)."""
+    from twinlink.processors.catalog import load_module
+
     folder = path.is_dir()
     name = name or (path.name if folder else path.stem)
-    source = path / "__init__.py" if folder else path
-    module_name = f"twinlink_tvilling_{slug(name)}"
-    search = [str(path)] if folder else None
-    spec = importlib.util.spec_from_file_location(
-        module_name, source, submodule_search_locations=search
-    )
-    if spec is None or spec.loader is None or not source.is_file():
+    if not (path / "__init__.py" if folder else path).is_file():
         raise BlueprintError(f"{path}: not a Python module")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[module_name] = module
     try:
-        spec.loader.exec_module(module)
+        module = load_module(path)
     except Exception as e:
-        del sys.modules[module_name]
         raise BlueprintError(f"{path}: cannot be imported: {e}") from e
     p_class = getattr(module, "P", None)
     if not isinstance(p_class, type):
