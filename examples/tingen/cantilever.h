@@ -27,6 +27,25 @@
 /* Rayleigh's factor: the share of a uniform cantilever's mass that moves with the tip. */
 #define CANTILEVER_RAYLEIGH_FACTOR 0.2357
 
+/* Value references, the same in the FMI 2.0 and FMI 3.0 model descriptions (FMI 3.0 adds
+ * VR_TIME = 0 for its independent variable). */
+enum {
+    VR_F = 1,
+    VR_THETA = 2,
+    VR_SIGMA = 3,
+    VR_W = 4,
+    VR_V = 5,
+    VR_DER_W = 6,
+    VR_DER_V = 7,
+    VR_L = 10,
+    VR_I = 11,
+    VR_E = 12,
+    VR_TIP_MASS = 13,
+    VR_BEAM_MASS_PER_LENGTH = 14,
+    VR_ZETA = 15,
+    VR_C_FIBER = 16
+};
+
 typedef struct {
     double L;                    /* free length [m] */
     double I;                    /* area moment of inertia about the bending axis [m^4] */
@@ -96,6 +115,29 @@ static inline double cantilever_theta(const CantileverParams *p, double w) {
 static inline double cantilever_sigma(const CantileverParams *p, double w) {
     double moment = cantilever_stiffness(p) * w * p->L;
     return moment * p->c_fiber / p->I;
+}
+
+
+/* The value of a model variable by its value reference; 0 when there is no such variable. */
+static inline int cantilever_get(const CantileverParams *p, double F, const CantileverState *x,
+                                 unsigned vr, double *value) {
+    switch (vr) {
+        case VR_F: *value = F; return 1;
+        case VR_THETA: *value = cantilever_theta(p, x->w); return 1;
+        case VR_SIGMA: *value = cantilever_sigma(p, x->w); return 1;
+        case VR_W: *value = x->w; return 1;
+        case VR_V: *value = x->v; return 1;
+        case VR_DER_W: *value = x->v; return 1;
+        case VR_DER_V: *value = cantilever_acceleration(p, F, x->w, x->v); return 1;
+        case VR_L: *value = p->L; return 1;
+        case VR_I: *value = p->I; return 1;
+        case VR_E: *value = p->E; return 1;
+        case VR_TIP_MASS: *value = p->tip_mass; return 1;
+        case VR_BEAM_MASS_PER_LENGTH: *value = p->beam_mass_per_length; return 1;
+        case VR_ZETA: *value = p->zeta; return 1;
+        case VR_C_FIBER: *value = p->c_fiber; return 1;
+        default: return 0;
+    }
 }
 
 /*

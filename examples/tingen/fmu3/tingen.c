@@ -49,23 +49,7 @@
 #define NOMINAL_W 0.01
 #define NOMINAL_V 0.1
 
-enum {
-    VR_TIME = 0,
-    VR_F = 1,
-    VR_THETA = 2,
-    VR_SIGMA = 3,
-    VR_W = 4,
-    VR_V = 5,
-    VR_DER_W = 6,
-    VR_DER_V = 7,
-    VR_L = 10,
-    VR_I = 11,
-    VR_E = 12,
-    VR_TIP_MASS = 13,
-    VR_BEAM_MASS_PER_LENGTH = 14,
-    VR_ZETA = 15,
-    VR_C_FIBER = 16
-};
+enum { VR_TIME = 0 }; /* FMI 3.0 only: the independent variable */
 
 typedef enum { TYPE_MODEL_EXCHANGE, TYPE_CO_SIMULATION } InterfaceType;
 
@@ -172,26 +156,13 @@ static void set_defaults(Instance *c) {
 }
 
 static fmi3Status get_value(Instance *c, fmi3ValueReference vr, fmi3Float64 *value) {
-    switch (vr) {
-        case VR_TIME: *value = c->time; return fmi3OK;
-        case VR_F: *value = c->F; return fmi3OK;
-        case VR_THETA: *value = cantilever_theta(&c->p, c->x.w); return fmi3OK;
-        case VR_SIGMA: *value = cantilever_sigma(&c->p, c->x.w); return fmi3OK;
-        case VR_W: *value = c->x.w; return fmi3OK;
-        case VR_V: *value = c->x.v; return fmi3OK;
-        case VR_DER_W: *value = c->x.v; return fmi3OK;
-        case VR_DER_V: *value = cantilever_acceleration(&c->p, c->F, c->x.w, c->x.v); return fmi3OK;
-        case VR_L: *value = c->p.L; return fmi3OK;
-        case VR_I: *value = c->p.I; return fmi3OK;
-        case VR_E: *value = c->p.E; return fmi3OK;
-        case VR_TIP_MASS: *value = c->p.tip_mass; return fmi3OK;
-        case VR_BEAM_MASS_PER_LENGTH: *value = c->p.beam_mass_per_length; return fmi3OK;
-        case VR_ZETA: *value = c->p.zeta; return fmi3OK;
-        case VR_C_FIBER: *value = c->p.c_fiber; return fmi3OK;
-        default:
-            LOG_ERROR(c, "fmi3GetFloat64: unknown value reference %u.", (unsigned)vr);
-            return fmi3Error;
+    if (vr == VR_TIME) {
+        *value = c->time;
+        return fmi3OK;
     }
+    if (cantilever_get(&c->p, c->F, &c->x, vr, value)) return fmi3OK;
+    LOG_ERROR(c, "fmi3GetFloat64: unknown value reference %u.", (unsigned)vr);
+    return fmi3Error;
 }
 
 /* A structural (fixed) parameter: settable before and during initialization only. */
