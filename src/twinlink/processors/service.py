@@ -15,8 +15,6 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
-from pydantic import ValidationError
-
 from twinlink.auth.rights import Principal, has_role
 from twinlink.bus import Bus, samples_subject
 from twinlink.commands import CommandService
@@ -28,8 +26,9 @@ from twinlink.domain.errors import (
 )
 from twinlink.domain.samples import SampleBatch
 from twinlink.ingest.service import IngestService
-from twinlink.processors.blueprint import Batch, BlueprintError
+from twinlink.processors.blueprint import Batch
 from twinlink.processors.catalog import Entry, discover
+from twinlink.processors.checks import check_chain, checked_spec, spec_of
 from twinlink.processors.convert import to_columns, to_samples
 from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
@@ -53,7 +52,7 @@ class Hosted:
         worked out again only when the spec or the running blueprint changed."""
         spec, info = self.record.spec, self.supervisor.info
         if self._wanted[0] is not spec or self._wanted[1] is not info:
-            self._wanted = (spec, info, _wanted(_spec_of(self.record), info))
+            self._wanted = (spec, info, _wanted(spec_of(self.record), info))
         return self._wanted[2]
 
 
@@ -128,7 +127,7 @@ class ProcessorService:
         existing = await self.store.list_processors(twin.id)
         if any(r.name == spec.name for r in existing):
             raise ConflictError(f"the twin already has a processor {spec.name!r}")
-        _check_chain(spec, existing)
+        check_chain(spec, existing)
         if spec.enabled:
             self._check_room()
         user_id = principal.user.id if principal.user else None
@@ -145,13 +144,13 @@ class ProcessorService:
         """Change a processor. Parameters alone are applied to the running worker when its
         blueprint can keep its state; anything else restarts it."""
         record = await self._find(principal, slug, name, "editor")
-        current = _spec_of(record)
+        current = spec_of(record)
         if "name" in changes and changes["name"] != record.name:
             raise InvalidInputError("a processor cannot be renamed; create a new one")
         merged = {**current.model_dump(mode="json"), **changes}
         spec = self._checked(merged)
         others = [r for r in await self.store.list_processors(record.twin_id) if r.id != record.id]
-        _check_chain(spec, others)
+        check_chain(spec, others)
         if spec.enabled and record.id not in self.hosted:
             self._check_room()
         await self.store.update_processor(record.id, spec.stored(), spec.enabled, time.time_ns())
@@ -225,7 +224,7 @@ class ProcessorService:
             if isinstance(batch, SampleBatch):
                 supervisor.feed(to_columns(batch, hosted.wanted()), time.perf_counter())
 
-        source = _spec_of(record).source  # a new source hosts the processor anew
+        source = spec_of(record).source  # a new source hosts the processor anew
         hosted.unsubscribe = self.bus.subscribe(samples_subject(record.twin_id, source), on_batch)
         self.hosted[record.id] = hosted
         if entry is None:
@@ -254,7 +253,7 @@ class ProcessorService:
         return await hosted.supervisor.reconfigure(config, params_only)
 
     def _worker_config(self, record: ProcessorRecord, entry: Entry | None) -> WorkerConfig:
-        spec = _spec_of(record)
+        spec = spec_of(record)
         return WorkerConfig(
             processor_id=record.id,
             name=record.name,
@@ -325,24 +324,7 @@ class ProcessorService:
     # -- checks -----------------------------------------------------------------------------
 
     def _checked(self, body: dict[str, Any]) -> ProcessorSpec:
-        try:
-            spec = ProcessorSpec.model_validate(body)
-        except ValidationError as err:
-            raise InvalidInputError(_first_errors(err)) from None
-        entry = self.catalog.get(spec.blueprint)
-        if entry is None:
-            raise InvalidInputError(f"no blueprint {spec.blueprint!r}; see /api/v1/blueprints")
-        if entry.cls is None:
-            raise InvalidInputError(f"blueprint {spec.blueprint!r} is broken: {entry.error}")
-        try:
-            entry.cls.check(entry.cls.Params.model_validate(spec.params))
-        except ValidationError as err:
-            raise InvalidInputError("params: " + _first_errors(err)) from None
-        except BlueprintError as err:
-            raise InvalidInputError(f"params: {err}") from None
-        if spec.output_stream == spec.source:
-            raise InvalidInputError("a processor cannot write the stream it reads")
-        return spec
+        return checked_spec(body, self.catalog)
 
     def _check_room(self) -> None:
         if len(self.hosted) >= self.max_running:
@@ -374,17 +356,6 @@ def raise_forbidden(slug: str) -> None:
     raise ForbiddenError(f"changing processors of {slug!r} needs the editor role")
 
 
-def _spec_of(record: ProcessorRecord) -> ProcessorSpec:
-    return ProcessorSpec.model_validate(
-        {
-            **record.spec,
-            "name": record.name,
-            "blueprint": record.blueprint,
-            "enabled": record.enabled,
-        }
-    )
-
-
 def _wanted(spec: ProcessorSpec, info: dict[str, Any]) -> list[str] | None:
     """The source signals a running blueprint reads (None: all, until it has said)."""
     inputs = info.get("inputs")
@@ -392,30 +363,3 @@ def _wanted(spec: ProcessorSpec, info: dict[str, Any]) -> list[str] | None:
         return None
     maps = spec.input_maps()
     return list(dict.fromkeys(maps[i].signal if i in maps else i for i in inputs))
-
-
-def _check_chain(spec: ProcessorSpec, others: list[ProcessorRecord]) -> None:
-    """Refuse a processor whose output would come back to its own input through others."""
-    edges: dict[str, set[str]] = {}
-    for record in others:
-        other = _spec_of(record)
-        edges.setdefault(other.source, set()).add(other.output_stream)
-        if other.output_stream == spec.output_stream:
-            raise ConflictError(f"processor {record.name!r} already writes {spec.output_stream!r}")
-    edges.setdefault(spec.source, set()).add(spec.output_stream)
-    seen, todo = set(), [spec.output_stream]
-    while todo:
-        stream = todo.pop()
-        if stream == spec.source:
-            raise InvalidInputError(
-                f"{spec.source!r} -> {spec.output_stream!r} would make a loop of processors"
-            )
-        if stream not in seen:
-            seen.add(stream)
-            todo.extend(edges.get(stream, ()))
-
-
-def _first_errors(err: ValidationError) -> str:
-    return "; ".join(
-        f"{'.'.join(str(p) for p in e['loc']) or 'body'}: {e['msg']}" for e in err.errors()[:5]
-    )

@@ -1,0 +1,73 @@
+"""The rules a processor's settings must follow before it is stored or run."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import ValidationError
+
+from twinlink.domain.errors import ConflictError, InvalidInputError
+from twinlink.processors.blueprint import BlueprintError
+from twinlink.processors.catalog import Entry
+from twinlink.processors.spec import ProcessorSpec
+from twinlink.store.records import ProcessorRecord
+
+
+def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSpec:
+    """The processor `body` describes; InvalidInputError says what is wrong with it."""
+    try:
+        spec = ProcessorSpec.model_validate(body)
+    except ValidationError as err:
+        raise InvalidInputError(first_errors(err)) from None
+    entry = catalog.get(spec.blueprint)
+    if entry is None:
+        raise InvalidInputError(f"no blueprint {spec.blueprint!r}; see /api/v1/blueprints")
+    if entry.cls is None:
+        raise InvalidInputError(f"blueprint {spec.blueprint!r} is broken: {entry.error}")
+    try:
+        entry.cls.check(entry.cls.Params.model_validate(spec.params))
+    except ValidationError as err:
+        raise InvalidInputError("params: " + first_errors(err)) from None
+    except BlueprintError as err:
+        raise InvalidInputError(f"params: {err}") from None
+    if spec.output_stream == spec.source:
+        raise InvalidInputError("a processor cannot write the stream it reads")
+    return spec
+
+
+def spec_of(record: ProcessorRecord) -> ProcessorSpec:
+    return ProcessorSpec.model_validate(
+        {
+            **record.spec,
+            "name": record.name,
+            "blueprint": record.blueprint,
+            "enabled": record.enabled,
+        }
+    )
+
+
+def check_chain(spec: ProcessorSpec, others: list[ProcessorRecord]) -> None:
+    """Refuse a processor whose output would come back to its own input through others."""
+    edges: dict[str, set[str]] = {}
+    for record in others:
+        other = spec_of(record)
+        edges.setdefault(other.source, set()).add(other.output_stream)
+        if other.output_stream == spec.output_stream:
+            raise ConflictError(f"processor {record.name!r} already writes {spec.output_stream!r}")
+    edges.setdefault(spec.source, set()).add(spec.output_stream)
+    seen, todo = set(), [spec.output_stream]
+    while todo:
+        stream = todo.pop()
+        if stream == spec.source:
+            raise InvalidInputError(
+                f"{spec.source!r} -> {spec.output_stream!r} would make a loop of processors"
+            )
+        if stream not in seen:
+            seen.add(stream)
+            todo.extend(edges.get(stream, ()))
+
+
+def first_errors(err: ValidationError) -> str:
+    return "; ".join(
+        f"{'.'.join(str(p) for p in e['loc']) or 'body'}: {e['msg']}" for e in err.errors()[:5]
+    )
