@@ -62,8 +62,12 @@ class FakeDevice:
         self._ws = await connect(
             self.url, additional_headers={"Authorization": f"Bearer {self.token}"}
         )
-        self.welcome = orjson.loads(await asyncio.wait_for(self._ws.recv(), WAIT_S))
-        assert self.welcome["type"] == "welcome", self.welcome
+        try:
+            self.welcome = orjson.loads(await asyncio.wait_for(self._ws.recv(), WAIT_S))
+            assert self.welcome["type"] == "welcome", self.welcome
+        except BaseException:
+            await self._ws.close()
+            raise
         self._reader = asyncio.create_task(self._read())
         return self
 

@@ -72,7 +72,7 @@ async def device_socket(websocket: WebSocket) -> None:
     hub: DeviceHub = services.device_hub
     session = DeviceSession(device, websocket)
     await hub.attach(session)
-    session.send(
+    session.open(
         {
             "type": "welcome",
             "device": device.name,

@@ -28,7 +28,9 @@ class Transport(Protocol):
 
 class DeviceSession:
     """One connected device. `send` queues a message; a writer task puts it on the wire, so
-    a device that reads slowly never blocks whoever sends to it."""
+    a device that reads slowly never blocks whoever sends to it. Until `open` sends the
+    welcome, messages are held back, so the welcome is always the first message a device
+    reads even when a command races the connection."""
 
     MAX_QUEUED = 10_000
 
@@ -37,14 +39,28 @@ class DeviceSession:
         self.transport = transport
         self._queue: asyncio.Queue[str | None] = asyncio.Queue(self.MAX_QUEUED)
         self.closed = asyncio.Event()
+        self._held: list[str] | None = []
         self._writer = asyncio.create_task(self._write(), name=f"device-{device.id}-writer")
 
     def send(self, message: dict[str, Any]) -> bool:
         """Queue `message` for the device; False when the session is closed or full."""
         if self.closed.is_set():
             return False
+        text = orjson.dumps(message).decode()
+        if self._held is not None:
+            self._held.append(text)
+            return True
+        return self._put(text)
+
+    def open(self, welcome: dict[str, Any]) -> None:
+        """Send `welcome`, then whatever was sent before it."""
+        held, self._held = self._held or [], None
+        for text in (orjson.dumps(welcome).decode(), *held):
+            self._put(text)
+
+    def _put(self, text: str) -> bool:
         try:
-            self._queue.put_nowait(orjson.dumps(message).decode())
+            self._queue.put_nowait(text)
         except asyncio.QueueFull:
             log.warning("device queue full", extra={"event": "device_queue_full",
                                                     "device": self.device.name})  # fmt: skip
