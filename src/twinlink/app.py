@@ -27,12 +27,17 @@ from twinlink.api import (
     system,
     twins,
 )
+from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.bus import Bus, MemoryBus
 from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
+from twinlink.gateway.metrics import GatewayCollector
+from twinlink.gateway.proxy import GatewayApp
+from twinlink.gateway.service import GatewayService
+from twinlink.gateway.vault import Vault
 from twinlink.history.maintenance import HistoryMaintenance
 from twinlink.history.service import HistoryService
 from twinlink.ingest.service import IngestService
@@ -69,6 +74,7 @@ class Services:
     history_maintenance: HistoryMaintenance
     processors: ProcessorService
     fmus: FmuService
+    gateway: GatewayService
 
 
 def build_services(settings: Settings) -> Services:
@@ -81,6 +87,14 @@ def build_services(settings: Settings) -> Services:
     registry.deleted_listeners.append(maintenance.twins_deleted)
     ingest = IngestService(registry, history, bus)
     commands = CommandService(registry, history, hub, settings.command_timeout_s)
+    secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
+    gateway = GatewayService(
+        store,
+        registry,
+        Vault.open(settings.data_dir, secret_key),
+        settings.gateway_default_twin,
+        settings.gateway_audit_days,
+    )
     return Services(
         store=store,
         auth=AuthService(store, settings.session_ttl_s),
@@ -109,6 +123,7 @@ def build_services(settings: Settings) -> Services:
         fmus=FmuService(
             store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders
         ),
+        gateway=gateway,
     )
 
 
@@ -132,6 +147,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
     await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
     services.history_maintenance.start()
     await services.processors.open()
+    await services.gateway.open()
     return await services.auth.bootstrap(
         settings.admin_token.get_secret_value() if settings.admin_token else None,
         settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -140,6 +156,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    await services.gateway.close()
     await services.processors.close()
     services.live.close()
     await services.bus.stop()
@@ -159,6 +176,7 @@ def create_app(
     metrics = Metrics()
     metrics.registry.register(DataPlaneCollector(lambda: data_plane_figures(services)))
     metrics.registry.register(ProcessorCollector(services.processors))
+    metrics.registry.register(GatewayCollector(services.gateway))
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -189,7 +207,7 @@ def create_app(
         title="twinlink",
         version=__version__,
         description="An open-source digital twin platform: DT documents, a twin registry with "
-        "search, and (in later versions) live data, processors and an API gateway. "
+        "search, live data, processors and an API gateway (the Data Link). "
         "Every endpoint needs `Authorization: Bearer <token>` except /healthz, login and "
         "public DT documents.",
         lifespan=lifespan,
@@ -202,9 +220,11 @@ def create_app(
     app.state.metrics = metrics
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors,)
+    routers_more = (processors, gateway_api)
     for module in (*routers, *routers_more, search, pages):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)
+    # Outermost: gateway paths skip the platform's routing (the gateway counts its own).
+    app.add_middleware(GatewayApp, gateway=services.gateway, auth=services.auth)
     return app

@@ -109,6 +109,19 @@ class Settings(BaseSettings):
         description="Who may upload and delete FMUs: admins, or also editors of the twin. An "
         "FMU is native code that runs in a worker process under the server's user.",
     )
+    secret_key: SecretStr | None = Field(
+        None,
+        description="Key (Fernet, 44 URL-safe base64 characters) that encrypts the gateway's "
+        "stored service credentials [made once in <data_dir>/secret.key].",
+    )
+    gateway_default_twin: str | None = Field(
+        None,
+        description="The twin whose services answer at /services/{service}/... (the Data Link "
+        "paper's form); unset, only /twins/{twin}/services/{service}/... is served.",
+    )
+    gateway_audit_days: float = Field(
+        30, ge=0, description="Keep the gateway's audit log this many days; 0 keeps it all."
+    )
 
     @classmethod
     def settings_customise_sources(

@@ -10,12 +10,14 @@ from typing import Any, Protocol
 
 from twinlink.store.records import (
     ApiToken,
+    AuditEntry,
     Device,
     Edge,
     FmuRecord,
     ProcessorEvent,
     ProcessorRecord,
     SearchResult,
+    ServiceRecord,
     TwinRecord,
     TwinWrite,
     User,
@@ -150,3 +152,12 @@ class MetadataStore(Protocol):
     ) -> FmuRecord: ...
     async def list_fmus(self, twin_id: int) -> list[FmuRecord]: ...
     async def delete_fmu(self, twin_id: int, name: str) -> bool: ...
+
+    # the gateway
+    async def list_services(self, twin_id: int | None = None) -> list[ServiceRecord]: ...
+    async def put_service(self, record: ServiceRecord, create: bool) -> ServiceRecord: ...
+    async def delete_service(self, twin_id: int, name: str) -> bool: ...
+    async def add_audit(self, entries: list[AuditEntry], keep_after_ns: int) -> None: ...
+    async def list_audit(
+        self, filters: dict[str, Any], limit: int, before_id: int | None = None
+    ) -> list[AuditEntry]: ...

@@ -148,3 +148,38 @@ class FmuRecord:
     info: dict[str, Any]
     uploaded_by: int | None
     uploaded_ns: int
+
+
+@dataclass(slots=True)
+class ServiceRecord:
+    """A gateway service's stored settings (see migration 0006)."""
+
+    id: int
+    twin_id: int
+    name: str
+    source: str  # api | document
+    settings: dict[str, Any]
+    secret: bytes | None = field(default=None, repr=False)
+    auth_origin: str | None = None
+    created_by: int | None = None
+    created_ns: int = 0
+    modified_ns: int = 0
+
+
+@dataclass(slots=True)
+class AuditEntry:
+    """One request the gateway answered on a service path."""
+
+    time_ns: int
+    twin: str
+    service: str
+    caller: str
+    method: str
+    path: str
+    status: int
+    outcome: str  # forwarded | refused | failed
+    bytes_in: int
+    bytes_out: int
+    upstream_ms: float | None
+    total_ms: float
+    id: int = 0

@@ -6,13 +6,16 @@ from pathlib import Path
 
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.devices import DeviceTables
+from twinlink.store.sqlite.gateway import GatewayTables
 from twinlink.store.sqlite.processors import ProcessorTables
 from twinlink.store.sqlite.search import SearchTables
 from twinlink.store.sqlite.twins import TwinTables
 from twinlink.store.sqlite.users import UserTables
 
 
-class SqliteStore(UserTables, TwinTables, SearchTables, DeviceTables, ProcessorTables):
+class SqliteStore(
+    UserTables, TwinTables, SearchTables, DeviceTables, ProcessorTables, GatewayTables
+):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs."""
 

@@ -1,0 +1,126 @@
+"""One gateway request: the ASGI types, what the audit log records about it, and the
+problem answers (RFC 9457) the gateway gives itself."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Awaitable, Callable, MutableMapping
+from typing import Any
+
+import orjson
+
+from twinlink.store.records import AuditEntry
+
+Scope = MutableMapping[str, Any]
+Message = MutableMapping[str, Any]
+Receive = Callable[[], Awaitable[Message]]
+Send = Callable[[Message], Awaitable[None]]
+ASGIApp = Callable[[Scope, Receive, Send], Awaitable[None]]
+
+_TITLES = {
+    400: "Bad request",
+    401: "Unauthorized",
+    403: "Forbidden",
+    404: "Not found",
+    405: "Method not allowed",
+    413: "Content too large",
+    499: "Client closed request",
+    502: "Bad gateway",
+    503: "Service unavailable",
+    504: "Gateway timeout",
+}
+
+
+class GatewayProblem(Exception):
+    """An answer the gateway gives instead of the service's. `outcome` names it in the audit
+    log; `sent` is set when nothing can be sent any more (the client left, or the service's
+    answer had started)."""
+
+    def __init__(
+        self,
+        status: int,
+        detail: str,
+        outcome: str | None = None,
+        headers: list[tuple[bytes, bytes]] | None = None,
+        sent: bool = False,
+    ) -> None:
+        super().__init__(detail)
+        self.status = status
+        self.detail = detail
+        self.outcome = outcome or ("refused" if status < 500 else "failed")
+        self.headers = headers or []
+        self.sent = sent
+
+
+def problem_body(problem: GatewayProblem) -> tuple[bytes, list[tuple[bytes, bytes]]]:
+    body = orjson.dumps(
+        {
+            "type": "about:blank",
+            "title": _TITLES.get(problem.status, "Error"),
+            "status": problem.status,
+            "detail": problem.detail,
+            "source": "gateway",  # not the service: the gateway gave this answer itself
+            "code": problem.outcome,
+        }
+    )
+    headers = [
+        (b"content-type", b"application/problem+json"),
+        (b"content-length", str(len(body)).encode()),
+        *problem.headers,
+    ]
+    if problem.status == 401:
+        headers.append((b"www-authenticate", b'Bearer realm="twinlink"'))
+    return body, headers
+
+
+async def send_problem(send: Send, problem: GatewayProblem) -> None:
+    body, headers = problem_body(problem)
+    await send({"type": "http.response.start", "status": problem.status, "headers": headers})
+    await send({"type": "http.response.body", "body": body})
+
+
+class Exchange:
+    """What the audit log records about one request."""
+
+    __slots__ = (
+        "bytes_in",
+        "bytes_out",
+        "caller",
+        "method",
+        "outcome",
+        "path",
+        "service",
+        "started",
+        "status",
+        "twin",
+        "upstream_s",
+    )
+
+    def __init__(self, method: str, path: str) -> None:
+        self.started = time.perf_counter()
+        self.caller = "-"
+        self.twin = ""
+        self.service = ""
+        self.method = method
+        self.path = path
+        self.status = 0
+        self.outcome = "refused"
+        self.bytes_in = 0
+        self.bytes_out = 0
+        self.upstream_s: float | None = None
+
+    def entry(self) -> AuditEntry:
+        return AuditEntry(
+            time_ns=time.time_ns(),
+            twin=self.twin,
+            service=self.service,
+            caller=self.caller,
+            method=self.method,
+            path=self.path,
+            status=self.status,
+            outcome=self.outcome,
+            bytes_in=self.bytes_in,
+            bytes_out=self.bytes_out,
+            upstream_ms=None if self.upstream_s is None else self.upstream_s * 1000,
+            total_ms=(time.perf_counter() - self.started) * 1000,
+        )

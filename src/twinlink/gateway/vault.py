@@ -1,0 +1,55 @@
+"""Credentials encrypted at rest (Fernet: AES-128-CBC with an HMAC-SHA256 tag, from the
+`cryptography` package).
+
+The key comes from `TWINLINK_SECRET_KEY` or, when that is unset, from `<data_dir>/secret.key`
+(made on first use, readable by the server's user only). A copy of the database without the
+key reveals no credential; keep the key out of backups that leave the machine.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import orjson
+from cryptography.fernet import Fernet, InvalidToken
+
+KEY_FILE = "secret.key"
+
+
+class VaultError(Exception):
+    """Stored credentials cannot be read with this key (the key changed or was lost)."""
+
+
+class Vault:
+    def __init__(self, key: bytes) -> None:
+        self._fernet = Fernet(key)
+
+    @classmethod
+    def open(cls, data_dir: Path, key: str | None) -> Vault:
+        if key:
+            return cls(key.encode())
+        path = data_dir / KEY_FILE
+        if not path.exists():
+            data_dir.mkdir(parents=True, exist_ok=True)
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            with os.fdopen(fd, "wb") as f:
+                f.write(Fernet.generate_key())
+        return cls(path.read_bytes().strip())
+
+    def seal(self, secret: dict[str, Any]) -> bytes:
+        return self._fernet.encrypt(orjson.dumps(secret))
+
+    def unseal(self, sealed: bytes) -> dict[str, Any]:
+        try:
+            value: dict[str, Any] = orjson.loads(self._fernet.decrypt(sealed))
+        except InvalidToken:
+            raise VaultError(
+                "the stored credentials cannot be decrypted with this server's secret key "
+                "(TWINLINK_SECRET_KEY or secret.key changed); set them again"
+            ) from None
+        return value
+
+    def __repr__(self) -> str:  # never show the key
+        return "Vault(<key hidden>)"
