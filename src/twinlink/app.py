@@ -225,6 +225,12 @@ def create_app(
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)
-    # Outermost: gateway paths skip the platform's routing (the gateway counts its own).
-    app.add_middleware(GatewayApp, gateway=services.gateway, auth=services.auth)
     return app
+
+
+def outermost(app: FastAPI) -> GatewayApp:
+    """The app to serve: gateway paths go straight to the proxy, in front of FastAPI's own
+    middleware stack (error pages, body limits, telemetry), which cost a forwarded request
+    about 60 us for nothing it uses; everything else goes to `app`."""
+    services: Services = app.state.services
+    return GatewayApp(app, services.gateway, services.auth)

@@ -190,3 +190,9 @@ from twinlink.cli_processors import blueprints, fmus, processors  # noqa: E402
 main.add_command(blueprints)
 main.add_command(processors)
 main.add_command(fmus)
+
+from twinlink.cli_gateway import audit, service_accounts, services  # noqa: E402
+
+main.add_command(services)
+main.add_command(audit)
+main.add_command(service_accounts)

@@ -94,13 +94,17 @@ def demo(
 
     async def ready(services: Services) -> Callable[[], Awaitable[None]] | None:
         from twinlink.demo import load_examples, start_demo_fmu, start_demo_simulator
+        from twinlink.demo_crane import start_demo_crane
 
         loaded = await load_examples(services, examples)
         stop_simulator = await start_demo_simulator(services, settings.base_url)
         fmu_note = await start_demo_fmu(services, examples)
+        crane_note, stop_crane = await start_demo_crane(services)
         live = "  Tingen streams live from a simulated rig (device tingenSAP).\n"
         if fmu_note:
             live += f"  {fmu_note}\n"
+        if crane_note:
+            live += f"  {crane_note}\n"
         click.echo(
             f"\n  Demo twins: {', '.join(loaded) or 'none found in ' + str(examples)}\n"
             f"{live if stop_simulator else ''}"
@@ -109,6 +113,11 @@ def demo(
             f"  CLI: twinlink --url {settings.base_url} login -u admin\n",
             err=True,
         )
-        return stop_simulator
+        async def stop_all() -> None:
+            for stop in (stop_simulator, stop_crane):
+                if stop is not None:
+                    await stop()
+
+        return stop_all
 
     serve(settings, on_ready=ready, on_bootstrap=bootstrap)

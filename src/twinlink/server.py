@@ -8,7 +8,7 @@ from collections.abc import Callable
 
 import uvicorn
 
-from twinlink.app import Services, create_app
+from twinlink.app import Services, create_app, outermost
 from twinlink.auth.service import Bootstrap
 from twinlink.config import ConfigError, Settings
 from twinlink.logs import setup_logging
@@ -64,7 +64,7 @@ def serve(
 
     app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
     config = uvicorn.Config(
-        app,
+        outermost(app),
         log_level=settings.log_level,
         log_config=None,  # setup_logging has configured uvicorn's loggers
         access_log=settings.access_log,

@@ -15,6 +15,7 @@ from urllib.parse import unquote_to_bytes
 _TWIN_SERVICE = re.compile(rb"^/twins/([a-z0-9][a-z0-9-]*)/services/([a-z0-9][a-z0-9-]*)(/.*)?$")
 _DEFAULT = re.compile(rb"^/services/([a-z0-9][a-z0-9-]*)(/.*)?$")
 _ALLOWED = re.compile(rb"^[A-Za-z0-9\-._~!$&'()*+,;=:@%]*$")
+_PLAIN = re.compile(rb"^[A-Za-z0-9\-._~!$&'()*+,;=:@][A-Za-z0-9\-._~!$&'()*+,;=:@/]*$")
 _DOUBLE = re.compile(rb"%(?:25|2e|2f|5c|00)", re.IGNORECASE)
 
 
@@ -46,8 +47,10 @@ def match(raw_path: bytes) -> Route | None:
 
 def check_rest(rest: bytes) -> bytes:
     """`rest` if it stays below the base URL; PathRefused (with the reason) otherwise."""
-    if not rest:
-        return rest
+    if not rest or (
+        _PLAIN.match(rest) and b"/." not in rest and rest[:1] != b"." and b"://" not in rest
+    ):
+        return rest  # the usual path: nothing encoded, no dot segments
     if rest.startswith(b"/"):
         raise PathRefused("the path below the service may not start with '/'")
     for segment in rest.split(b"/"):

@@ -141,7 +141,6 @@ class _Connection(asyncio.Protocol):
         self.head_only = head_only
         self.reusable = False
         self.received_any = False
-        self.parser = httptools.HttpResponseParser(self)
 
     async def write(self, data: bytes) -> None:
         if self.lost or self.transport is None:
@@ -151,13 +150,24 @@ class _Connection(asyncio.Protocol):
             await self._can_write.wait()
 
     async def head(self, timeout_s: float) -> tuple[int, Headers]:
-        assert self._head is not None
-        try:
-            await asyncio.wait_for(asyncio.shield(self._head), timeout_s)
-        except TimeoutError:
-            self._close()
-            raise UpstreamError("timeout", f"no answer within {timeout_s:g} s") from None
+        head = self._head
+        assert head is not None
+        if not head.done():
+            # A timer, not asyncio.wait_for: this runs on every request, and wait_for's
+            # task and shield cost more than the rest of the exchange's bookkeeping.
+            timer = asyncio.get_running_loop().call_later(timeout_s, self._timed_out, head)
+            try:
+                await head
+            finally:
+                timer.cancel()
+        else:
+            head.result()  # raises the stored error, if any
         return self.parser.get_status_code(), self._headers
+
+    def _timed_out(self, head: asyncio.Future[None]) -> None:
+        if not head.done():
+            head.set_exception(UpstreamError("timeout", "no answer in time"))
+            self._close()
 
     def whole_body(self) -> bytes | None:
         """The whole body when the answer has fully arrived already, else None."""

@@ -1,0 +1,109 @@
+"""A service's settings: validation, secrets kept apart and shown only as *_set."""
+
+from __future__ import annotations
+
+import stat
+from pathlib import Path
+
+import pytest
+from pydantic import ValidationError
+
+from twinlink.gateway.credentials import credentials_for, json_path, scrub
+from twinlink.gateway.spec import (
+    ServiceSettings,
+    check_base_url,
+    origin,
+    public_auth,
+    service_name,
+    split_secrets,
+)
+from twinlink.gateway.vault import Vault, VaultError
+
+
+def test_feature_names_become_service_names() -> None:
+    assert service_name("Sensor manager") == "sensor-manager"
+    assert service_name("OPC UA server") == "opc-ua-server"
+    assert service_name("  CAD store (exports) ") == "cad-store-exports"
+
+
+@pytest.mark.parametrize(
+    "url",
+    ["ftp://h/x", "http:///x", "http://user:pw@h/", "http://h/?q=1", "http://h/#f", "file:///etc"],
+)
+def test_unusable_base_urls_are_refused(url: str) -> None:
+    with pytest.raises(ValueError):
+        check_base_url(url)
+
+
+def test_base_urls_end_with_a_slash_and_origins_name_the_port() -> None:
+    assert check_base_url("https://h.example/api") == "https://h.example/api/"
+    assert origin("https://H.example/api/") == "https://h.example:443"
+    assert origin("http://h:8701/x") == "http://h:8701"
+
+
+def test_secrets_are_split_off_and_shown_only_as_set() -> None:
+    settings = ServiceSettings.model_validate(
+        {
+            "base_url": "http://h/",
+            "auth": {
+                "method": "oauth2_password",
+                "token_url": "http://h/t",
+                "username": "u",
+                "password": "pw",
+                "client_id": "c",
+                "client_secret": "cs",
+            },
+        }
+    )
+    public, secret = split_secrets(settings.model_dump(by_alias=True)["auth"])
+    assert secret == {"password": "pw", "client_secret": "cs"}
+    shown = public_auth(public, set(secret))
+    assert shown["password_set"] is True and shown["client_secret_set"] is True
+    assert "pw" not in str(shown) and "cs" not in str(shown)
+
+
+def test_unknown_methods_and_templates_without_a_token_are_refused() -> None:
+    with pytest.raises(ValidationError):
+        ServiceSettings.model_validate({"methods": ["GET", "BREW"]})
+    with pytest.raises(ValidationError):
+        ServiceSettings.model_validate(
+            {"auth": {"method": "custom_login", "login_url": "http://h/", "template": "Token"}}
+        )
+
+
+def test_static_credentials_go_where_they_belong() -> None:
+    headers: list[tuple[bytes, bytes]] = []
+    query: list[str] = []
+    credentials_for(
+        ServiceSettings.model_validate(
+            {"auth": {"method": "api_key", "name": "key", "value": "a b&c", "in": "query"}}
+        ).auth
+    ).apply(headers, query)
+    assert headers == [] and query == ["key=a%20b%26c"]
+    basic = credentials_for(
+        ServiceSettings.model_validate(
+            {"auth": {"method": "basic", "username": "u", "password": "p"}}
+        ).auth
+    )
+    basic.apply(headers, query)
+    assert headers == [(b"authorization", b"Basic dTpw")]
+
+
+def test_json_paths_and_scrubbing() -> None:
+    body = {"data": {"token": "t1", "items": [{"k": 2}]}}
+    assert json_path(body, "data.token") == "t1"
+    assert json_path(body, "$.data.items.0.k") == 2
+    assert json_path(body, "data.missing.x") is None
+    assert scrub("bad password hunter2 given", ["hunter2"]) == "bad password *** given"
+
+
+def test_the_vault_key_file_is_private_and_other_keys_cannot_read(tmp_path: Path) -> None:
+    vault = Vault.open(tmp_path, None)
+    sealed = vault.seal({"password": "hunter2"})
+    assert b"hunter2" not in sealed
+    assert stat.S_IMODE((tmp_path / "secret.key").stat().st_mode) == 0o600
+    assert Vault.open(tmp_path, None).unseal(sealed) == {"password": "hunter2"}
+    other = Vault.open(tmp_path / "other", None)
+    with pytest.raises(VaultError):
+        other.unseal(sealed)
+    assert "key" not in repr(vault).replace("<key hidden>", "")
