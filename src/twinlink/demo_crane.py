@@ -12,21 +12,12 @@ from twinlink.app import Services
 from twinlink.auth.rights import Principal
 
 CRANE_SLUG = "ilmatar-k16052"
-# A path of each service that needs its credentials, so a health check also checks them.
-HEALTH_PATHS = {
-    "historian": "signals",
-    "opc-ua-server": "variables",
-    "cad-store": "files",
-    "sensor-manager": "sensors",
-}
-
-
 async def start_demo_crane(
     services: Services, host: str = "127.0.0.1"
 ) -> tuple[str | None, Callable[[], Awaitable[None]] | None]:
     """Start the crane's services and configure their gateway credentials; a line for the
     welcome text and the function that stops them (both None when they cannot run)."""
-    from twinlink.crane.gateway_auth import gateway_auth
+    from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
     from twinlink.crane.runner import start_crane
 
     admin = await services.store.get_user_by_name("admin")
@@ -42,7 +33,7 @@ async def start_demo_crane(
     for name, auth in gateway_auth(crane).items():
         patch = {"auth": auth, "health_path": HEALTH_PATHS.get(name)}
         await services.gateway.update(principal, CRANE_SLUG, name, patch)
-    names = ", ".join(sorted(HEALTH_PATHS))
+    names = ",".join(sorted(HEALTH_PATHS))
     note = (
         f"The Ilmatar crane's services run through the gateway: /twins/{CRANE_SLUG}/services/"
         f"{{{names}}}/..."
