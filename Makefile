@@ -1,7 +1,7 @@
 # The documented commands. Each target installs what it needs first.
 #   make demo   the platform with the example twins, on http://127.0.0.1:8000
 #   make test   every test (unit and integration, with real servers on loopback)
-#   make bench  the benchmarks in bench/ (API, live data, then processors), results in docs/benchmarks.md
+#   make bench  the benchmarks in bench/ (API, live data, processors, then the gateway), results in docs/benchmarks.md
 #   make lint   ruff and mypy
 
 PYTHON ?= python3
@@ -37,10 +37,11 @@ integration: $(STAMP)
 	$(BIN)/python -m pytest tests/integration
 
 bench: $(STAMP)
-	@scripts/ensure-packages.sh nginx-light
+	@scripts/ensure-packages.sh nginx-light wrk
 	$(BIN)/python bench/api.py
 	$(BIN)/python bench/live.py
 	$(BIN)/python bench/processors.py
+	$(BIN)/python bench/gateway.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check src edge tests bench

@@ -61,7 +61,7 @@ class _Connection(asyncio.Protocol):
         self._buffered = 0
         self._done = False
         self._error: UpstreamError | None = None
-        self._wake: asyncio.Event = asyncio.Event()
+        self._waiter: asyncio.Future[None] | None = None
         self._can_write = asyncio.Event()
         self._can_write.set()
         self._paused = False
@@ -111,21 +111,21 @@ class _Connection(asyncio.Protocol):
         if self._buffered > HIGH_WATER and not self._paused and self.transport is not None:
             self._paused = True
             self.transport.pause_reading()
-        self._wake.set()
+        self._wake()
 
     def on_message_complete(self) -> None:
         if self._done:
             return
         self._done = True
         self.reusable = not self.head_only and self.parser.should_keep_alive()
-        self._wake.set()
+        self._wake()
 
     # -- used by the pool ------------------------------------------------------------------
     def _fail(self, error: UpstreamError) -> None:
         self._error = error
         if self._head is not None and not self._head.done():
             self._head.set_exception(error)
-        self._wake.set()
+        self._wake()
 
     def _close(self) -> None:
         if self.transport is not None:
@@ -179,24 +179,40 @@ class _Connection(asyncio.Protocol):
         return whole
 
     async def body(self, timeout_s: float) -> AsyncIterator[bytes]:
+        """The body in pieces as it arrives; what arrived meanwhile is joined into one piece,
+        so a fast service and a slow client cost one send per read, not per packet."""
+        loop = asyncio.get_running_loop()
         while True:
-            while self._chunks:
-                chunk = self._chunks.popleft()
-                self._buffered -= len(chunk)
-                if self._paused and self._buffered <= HIGH_WATER // 2 and self.transport:
+            if self._chunks:
+                chunk = self._chunks[0] if len(self._chunks) == 1 else b"".join(self._chunks)
+                self._chunks.clear()
+                self._buffered = 0
+                if self._paused and self.transport is not None:
                     self._paused = False
                     self.transport.resume_reading()
                 yield chunk
+                continue
             if self._done:
                 return
             if self._error is not None:
                 raise self._error
-            self._wake.clear()
+            waiter: asyncio.Future[None] = loop.create_future()
+            self._waiter = waiter
+            timer = loop.call_later(timeout_s, self._stalled, waiter, timeout_s)
             try:
-                await asyncio.wait_for(self._wake.wait(), timeout_s)
-            except TimeoutError:
-                self._close()
-                raise UpstreamError("timeout", f"the body stalled for {timeout_s:g} s") from None
+                await waiter
+            finally:
+                timer.cancel()
+                self._waiter = None
+
+    def _stalled(self, waiter: asyncio.Future[None], timeout_s: float) -> None:
+        if not waiter.done():
+            waiter.set_exception(UpstreamError("timeout", f"the body stalled for {timeout_s:g} s"))
+            self._close()
+
+    def _wake(self) -> None:
+        if self._waiter is not None and not self._waiter.done():
+            self._waiter.set_result(None)
 
 
 class Pool:
