@@ -5,7 +5,8 @@ service cannot be cured by the gateway, so their refresh fails with a message sa
 Token methods (OAuth2 client credentials and password grant, custom login) fetch a token,
 keep it until shortly before it expires, and fetch a new one when the service answers 401.
 Any number of requests refused at once cause one fetch: each says which token it used, and
-only the first to ask for a refresh of that token performs it.
+only the first to ask for a refresh of that token performs it; the others share its outcome,
+a failure included (a failing login endpoint is not called once per waiting request).
 """
 
 from __future__ import annotations
@@ -14,10 +15,11 @@ import asyncio
 import base64
 import time
 from typing import Any
-from urllib.parse import quote
+from urllib.parse import quote, unquote_plus
 
 import httpx
 
+from twinlink.gateway.headers import is_field_value
 from twinlink.gateway.spec import (
     ApiKeyAuth,
     AuthSettings,
@@ -56,6 +58,10 @@ class Credentials:
     def apply(self, headers: Headers, query: list[str]) -> None:
         """Add the credentials to a request's headers or query parameters."""
 
+    def client_query(self, query: bytes) -> bytes:
+        """The caller's query string as sent on: without a parameter the credentials set."""
+        return query
+
     async def refresh(self, refused_generation: int) -> None:
         raise RefreshError(
             f"the service refused the gateway's {self.method} credentials, which the gateway "
@@ -75,7 +81,7 @@ class StaticHeader(Credentials):
         self._secret = secret
 
     def apply(self, headers: Headers, query: list[str]) -> None:
-        headers.append(self._header)
+        _replace(headers, self._header)
 
     def secrets(self) -> list[str]:
         return [self._secret]
@@ -86,18 +92,28 @@ class QueryKey(Credentials):
 
     def __init__(self, name: str, value: str) -> None:
         super().__init__()
+        self._name = name
         self._param = f"{quote(name, safe='')}={quote(value, safe='')}"
         self._value = value
 
     def apply(self, headers: Headers, query: list[str]) -> None:
         query.append(self._param)
 
+    def client_query(self, query: bytes) -> bytes:
+        # A key of the caller's own under the same name would leave the service two to pick
+        # from; only the gateway's is sent.
+        pairs = query.split(b"&") if query else []
+        return b"&".join(
+            p for p in pairs if unquote_plus(p.partition(b"=")[0].decode("latin-1")) != self._name
+        )
+
     def secrets(self) -> list[str]:
         return [self._value]
 
 
 class TokenCredentials(Credentials):
-    """A token fetched from a login endpoint and renewed on expiry or refusal."""
+    """A token fetched from a login endpoint and renewed on expiry or refusal. Its
+    `generation` counts the fetches that finished, whether they got a token or not."""
 
     can_refresh = True
 
@@ -117,18 +133,27 @@ class TokenCredentials(Credentials):
 
     def apply(self, headers: Headers, query: list[str]) -> None:
         if self._header is not None:
-            headers.append(self._header)
+            _replace(headers, self._header)
 
     async def refresh(self, refused_generation: int) -> None:
         async with self._lock:
-            if self.generation != refused_generation and self._header is not None:
-                return  # another request renewed it while this one waited
+            if self.generation != refused_generation:
+                # A fetch finished while this request was out: share its outcome rather than
+                # call the login endpoint again (and again, for each waiting request).
+                if self.last_error is not None:
+                    raise RefreshError(self.last_error)
+                return
             try:
                 token, expires_in = await self.fetch()
+                value = self._template.replace("{token}", token)
+                if not is_field_value(value):
+                    # A line break would end the header and could smuggle a request onto a
+                    # pooled connection; a character outside Latin-1 cannot be sent at all.
+                    raise RefreshError("the login endpoint sent a token that cannot go in a header")
             except RefreshError as err:
                 self.last_error = str(err)
+                self.generation += 1
                 raise
-            value = self._template.replace("{token}", token)
             self._header = (self._header_name, value.encode("latin-1"))
             life = expires_in if expires_in and expires_in > 0 else 3600.0
             self._renew_at = time.monotonic() + life - min(EXPIRY_MARGIN_S, life / 10)
@@ -222,6 +247,13 @@ def credentials_for(auth: AuthSettings) -> Credentials:
     if isinstance(auth, CustomLogin):
         return Login(auth)
     return Credentials()
+
+
+def _replace(headers: Headers, header: tuple[bytes, bytes]) -> None:
+    """Set `header`, dropping any the caller sent under that name: the service must see the
+    gateway's credentials only, not a second value to choose from."""
+    headers[:] = [h for h in headers if h[0] != header[0]]
+    headers.append(header)
 
 
 def json_path(data: Any, path: str | None) -> Any:

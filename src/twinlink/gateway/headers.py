@@ -4,6 +4,7 @@ gateway alone, and redirects kept inside the service."""
 
 from __future__ import annotations
 
+import re
 from urllib.parse import urlsplit
 
 Headers = list[tuple[bytes, bytes]]
@@ -37,6 +38,21 @@ _REQUEST_DROP = HOP_BY_HOP | {
 }
 # Not passed back: the service's cookies would be set for the platform's origin.
 _RESPONSE_DROP = HOP_BY_HOP | {b"set-cookie", b"date", b"server"}
+
+
+# RFC 9110 section 5.1 (a token) and 5.5 (visible characters, spaces and tabs; no CR, LF or
+# NUL, which would end the header and let a value smuggle headers or a whole request).
+_FIELD_NAME = re.compile(r"^[!#$%&'*+\-.^_`|~0-9A-Za-z]+$")
+_FIELD_VALUE = re.compile(r"^[\t\x20-\x7e\x80-\xff]*$")
+
+
+def is_field_name(name: str) -> bool:
+    return bool(_FIELD_NAME.match(name))
+
+
+def is_field_value(value: str) -> bool:
+    """Whether `value` can be sent as a header value as it is (latin-1, nothing that ends it)."""
+    return bool(_FIELD_VALUE.match(value))
 
 
 class RedirectRefused(ValueError):

@@ -2,8 +2,9 @@
 
 Only paths below a service's base URL are ever asked for: the part of the path after the
 service name is checked segment by segment in its raw (percent-encoded) form and refused if
-any segment is, or decodes to, `.` or `..`, holds an encoded slash, backslash or NUL, or is
-encoded twice; absolute URLs and empty leading segments (`//host`) are refused too.
+any segment is, or decodes to, `.` or `..` (also with `;parameters`), holds an encoded slash,
+backslash or NUL, or is encoded twice; absolute URLs and empty leading segments (`//host`) are
+refused too.
 """
 
 from __future__ import annotations
@@ -57,7 +58,8 @@ def check_rest(rest: bytes) -> bytes:
         if not _ALLOWED.match(segment):
             raise PathRefused("the path holds characters that must be percent-encoded")
         decoded = unquote_to_bytes(segment)
-        if decoded in (b".", b".."):
+        # `..;x` is `..` to servers that strip path parameters (Tomcat, Jetty, Spring).
+        if decoded.split(b";", 1)[0] in (b".", b".."):
             raise PathRefused("'.' and '..' segments are not allowed in a service path")
         if b"/" in decoded or b"\\" in decoded or b"\x00" in decoded:
             raise PathRefused("encoded '/', '\\' and NUL are not allowed in a service path")

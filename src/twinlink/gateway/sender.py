@@ -90,7 +90,8 @@ class Sender:
             headers.append((b"content-length", str(self.declared).encode()))
         elif body or self.method in _BODY_METHODS:
             headers.append((b"content-length", str(len(body)).encode()))
-        target = paths.target(service.base_path, self.rest, self.scope["query_string"], query)
+        client_query = service.credentials.client_query(self.scope["query_string"])
+        target = paths.target(service.base_path, self.rest, client_query, query)
         head = request_head(self.method, target, headers)
         first = _frame(body) if chunked and body else body
         limits = service.settings.limits

@@ -148,7 +148,13 @@ class GatewayService:
         elif kept:
             merged["auth"] = {**current.get("auth", {}), **kept}
         settings = _validated(merged)
-        await self._save(twin, name, service.source, settings, record, principal, create=False)
+        # A document service's credentials stay tied to the origin they were set for until
+        # an owner sets `auth` again: a change of another setting must not unblock a service
+        # whose apiAddress was moved by whoever may edit the document.
+        keep_origin = service.source == "document" and "auth" not in patch
+        await self._save(
+            twin, name, service.source, settings, record, principal, False, keep_origin
+        )
         return await self.get(principal, slug, name)
 
     def _kept_secrets(self, service: Service, patch: dict[str, Any]) -> dict[str, Any]:
@@ -174,6 +180,7 @@ class GatewayService:
         record: ServiceRecord | None,
         principal: Principal,
         create: bool,
+        keep_origin: bool = False,
     ) -> None:
         public, secret = split_secrets(settings.model_dump(by_alias=True)["auth"])
         stored = settings.model_dump(by_alias=True, exclude={"auth"})
@@ -183,6 +190,9 @@ class GatewayService:
         stored["secret_keys"] = sorted(secret)
         services = await self.services_of(twin)
         base_url = settings.base_url or (services[name].base_url if name in services else None)
+        auth_origin = origin(base_url) if base_url and settings.auth.method != "none" else None
+        if keep_origin and record is not None and settings.auth.method != "none":
+            auth_origin = record.auth_origin
         now = time.time_ns()
         new = ServiceRecord(
             id=0,
@@ -191,7 +201,7 @@ class GatewayService:
             source=source,
             settings=stored,
             secret=self.vault.seal(secret) if secret else None,
-            auth_origin=origin(base_url) if base_url and settings.auth.method != "none" else None,
+            auth_origin=auth_origin,
             created_by=principal.user.id if principal.user else None,
             created_ns=now,
             modified_ns=now,

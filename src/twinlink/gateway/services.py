@@ -187,13 +187,13 @@ class ServiceBuilder:
             blocked is None
             and base_url is not None
             and record is not None
-            and record.auth_origin is not None
             and settings.auth.method != "none"
             and record.auth_origin != origin(base_url)
         ):
+            # No origin: the credentials were set while the feature was gone from the document.
             blocked = (
                 "the service's address changed since its credentials were set (they were "
-                f"set for {record.auth_origin}); an owner must set them again"
+                f"set for {record.auth_origin or 'no address'}); an owner must set them again"
             )
         key = (twin.id, name, record.modified_ns if record is not None else 0)
         credentials = self._credentials.get(key)

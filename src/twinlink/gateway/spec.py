@@ -11,12 +11,39 @@ import re
 from typing import Annotated, Any, Literal
 from urllib.parse import urlsplit
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from twinlink.gateway.headers import is_field_name, is_field_value
 
 METHODS = ("GET", "HEAD", "OPTIONS", "POST", "PUT", "PATCH", "DELETE")
 READ_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 NAME_PATTERN = r"^[a-z0-9](?:[a-z0-9-]{0,62}[a-z0-9])?$"
 _NAME = re.compile(NAME_PATTERN)
+
+
+def _header_name(value: str) -> str:
+    if not is_field_name(value):
+        raise ValueError(f"{value!r} is not a header name (letters, digits, !#$%&'*+-.^_`|~)")
+    return value
+
+
+def _header_value(value: str) -> str:
+    # The value is not echoed: it may be a secret.
+    if not is_field_value(value):
+        raise ValueError("a header value may not hold line breaks, NUL or non-Latin-1 characters")
+    return value
+
+
+def _http_url(value: str) -> str:
+    parts = urlsplit(value.strip())
+    if parts.scheme not in ("http", "https") or not parts.hostname:
+        raise ValueError("not an http:// or https:// URL with a host")
+    return value.strip()
+
+
+HeaderName = Annotated[str, AfterValidator(_header_name)]
+HeaderValue = Annotated[str, AfterValidator(_header_value)]
+HttpUrl = Annotated[str, AfterValidator(_http_url)]
 
 
 class _Auth(BaseModel):
@@ -35,7 +62,7 @@ class BasicAuth(_Auth):
 
 class BearerAuth(_Auth):
     method: Literal["bearer"]
-    token: str = Field(min_length=1)
+    token: HeaderValue = Field(min_length=1)
 
 
 class ApiKeyAuth(_Auth):
@@ -45,10 +72,17 @@ class ApiKeyAuth(_Auth):
     in_: Literal["header", "query"] = Field("header", alias="in")
     model_config = ConfigDict(extra="forbid", populate_by_name=True)
 
+    @model_validator(mode="after")
+    def _fits_a_header(self) -> ApiKeyAuth:
+        if self.in_ == "header":  # a query parameter is percent-encoded: anything goes
+            _header_name(self.name)
+            _header_value(self.value)
+        return self
+
 
 class OAuth2ClientCredentials(_Auth):
     method: Literal["oauth2_client_credentials"]
-    token_url: str
+    token_url: HttpUrl
     client_id: str = Field(min_length=1)
     client_secret: str
     scope: str | None = None
@@ -58,7 +92,7 @@ class OAuth2ClientCredentials(_Auth):
 
 class OAuth2Password(_Auth):
     method: Literal["oauth2_password"]
-    token_url: str
+    token_url: HttpUrl
     username: str = Field(min_length=1)
     password: str
     client_id: str | None = None
@@ -73,12 +107,12 @@ class CustomLogin(_Auth):
     answer and send it as header `header`, formatted by `template`."""
 
     method: Literal["custom_login"]
-    login_url: str
+    login_url: HttpUrl
     body: dict[str, Any] = Field(default_factory=dict)
     token_path: str = Field("token", min_length=1)
     expires_in_path: str | None = None
-    header: str = Field("Authorization", min_length=1)
-    template: str = "Bearer {token}"
+    header: HeaderName = "Authorization"
+    template: HeaderValue = "Bearer {token}"
 
     @field_validator("template")
     @classmethod

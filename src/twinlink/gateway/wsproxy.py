@@ -93,7 +93,8 @@ async def _open(
         service.credentials.apply(headers, extra_query)
         scheme = "wss" if service.origin.tls else "ws"
         host = service.host_header.decode()
-        uri = f"{scheme}://{host}{paths.target(service.base_path, rest, query, extra_query)}"
+        client_query = service.credentials.client_query(query)
+        uri = f"{scheme}://{host}{paths.target(service.base_path, rest, client_query, extra_query)}"
         try:
             return await connect(
                 uri,
