@@ -113,6 +113,7 @@ def demo(
             f"  CLI: twinlink --url {settings.base_url} login -u admin\n",
             err=True,
         )
+
         async def stop_all() -> None:
             for stop in (stop_simulator, stop_crane):
                 if stop is not None:

@@ -12,6 +12,8 @@ from twinlink.app import Services
 from twinlink.auth.rights import Principal
 
 CRANE_SLUG = "ilmatar-k16052"
+
+
 async def start_demo_crane(
     services: Services, host: str = "127.0.0.1"
 ) -> tuple[str | None, Callable[[], Awaitable[None]] | None]:

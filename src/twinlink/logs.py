@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import re
 import sys
 import time
 from typing import Any
@@ -11,6 +12,21 @@ import orjson
 
 # Record attributes that are not the event's own fields (color_message: uvicorn's ANSI copy).
 _STANDARD = set(logging.makeLogRecord({}).__dict__) | {"message", "asctime", "color_message"}
+
+
+# A token in a query string (the gateway takes WebSocket tokens as `access_token`, as browsers
+# cannot set headers there): uvicorn logs request paths with their query.
+_QUERY_TOKEN = re.compile(r"((?:access_token|token)=)[^&\s\"']+", re.IGNORECASE)
+
+
+class RedactTokens(logging.Filter):
+    """Replaces tokens in query strings with `***` before any handler formats the line."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        message = record.getMessage()
+        if "token=" in message.lower():
+            record.msg, record.args = _QUERY_TOKEN.sub(r"\1***", message), None
+        return True
 
 
 class JsonFormatter(logging.Formatter):
@@ -38,6 +54,7 @@ def setup_logging(level: str, fmt: str) -> None:
         formatter = logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s")
     formatter.converter = time.gmtime
     handler.setFormatter(formatter)
+    handler.addFilter(RedactTokens())
     for name in ("twinlink", "uvicorn", "uvicorn.error", "uvicorn.access"):
         logger = logging.getLogger(name)
         logger.handlers[:] = [handler] if name in ("twinlink", "uvicorn") else []

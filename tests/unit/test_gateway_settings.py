@@ -8,7 +8,13 @@ from pathlib import Path
 import pytest
 from pydantic import ValidationError
 
-from twinlink.gateway.credentials import credentials_for, json_path, scrub
+from twinlink.gateway.credentials import (
+    RefreshError,
+    TokenCredentials,
+    credentials_for,
+    json_path,
+    scrub,
+)
 from twinlink.gateway.spec import (
     ServiceSettings,
     check_base_url,
@@ -107,3 +113,31 @@ def test_the_vault_key_file_is_private_and_other_keys_cannot_read(tmp_path: Path
     with pytest.raises(VaultError):
         other.unseal(sealed)
     assert "key" not in repr(vault).replace("<key hidden>", "")
+
+
+class _Flaky(TokenCredentials):
+    def __init__(self) -> None:
+        super().__init__("custom_login", "Authorization", "Token {token}")
+        self.fail = False
+        self.fetches = 0
+
+    async def fetch(self) -> tuple[str, float | None]:
+        self.fetches += 1
+        if self.fail:
+            raise RefreshError("the login endpoint is down")
+        return f"t{self.fetches}", 100.0
+
+
+async def test_a_token_in_its_renewal_margin_is_used_while_the_login_is_down() -> None:
+    creds = _Flaky()
+    await creds.ready()
+    headers: list[tuple[bytes, bytes]] = []
+    creds.apply(headers, [])
+    assert headers == [(b"authorization", b"Token t1")]
+    creds.fail = True
+    creds._renew_at = 0.0  # in the margin: due for renewal, not yet expired
+    await creds.ready()  # the fetch fails, the old token still serves
+    assert creds.fetches == 2 and creds.last_error is not None
+    creds._expires_at = 0.0  # expired: nothing usable is left
+    with pytest.raises(RefreshError):
+        await creds.ready()

@@ -124,11 +124,20 @@ class TokenCredentials(Credentials):
         self._template = template
         self._header: tuple[bytes, bytes] | None = None
         self._renew_at = 0.0
+        self._expires_at = 0.0
         self._lock = asyncio.Lock()
 
     async def ready(self) -> int:
-        if self._header is None or time.monotonic() >= self._renew_at:
+        now = time.monotonic()
+        if self._header is not None and now < self._renew_at:
+            return self.generation
+        usable = self._header is not None and now < self._expires_at
+        try:
             await self.refresh(self.generation)
+        except RefreshError:
+            if not usable:
+                raise
+            # The login endpoint failed in the renewal margin: the token still works a while.
         return self.generation
 
     def apply(self, headers: Headers, query: list[str]) -> None:
@@ -156,7 +165,9 @@ class TokenCredentials(Credentials):
                 raise
             self._header = (self._header_name, value.encode("latin-1"))
             life = expires_in if expires_in and expires_in > 0 else 3600.0
-            self._renew_at = time.monotonic() + life - min(EXPIRY_MARGIN_S, life / 10)
+            now = time.monotonic()
+            self._expires_at = now + life
+            self._renew_at = now + life - min(EXPIRY_MARGIN_S, life / 10)
             self.generation += 1
             self.refreshes += 1
             self.last_error = None

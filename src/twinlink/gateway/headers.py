@@ -5,7 +5,7 @@ gateway alone, and redirects kept inside the service."""
 from __future__ import annotations
 
 import re
-from urllib.parse import urlsplit
+from urllib.parse import unquote, urlsplit
 
 Headers = list[tuple[bytes, bytes]]
 
@@ -107,8 +107,10 @@ def response_headers(headers: Headers, base_url: str, gateway_prefix: str) -> He
 def _location(location: str, base_url: str, gateway_prefix: str) -> str:
     base = urlsplit(base_url)
     loc = urlsplit(location)
+    if _dot_segments(loc.path):
+        raise RedirectRefused("the service redirected with '.' or '..' in the path")
     if not loc.scheme and not loc.netloc and not location.startswith("/"):
-        return location  # relative to the current path: it stays below the service
+        return location  # relative to the current path, without dot segments: below the service
     same = (loc.scheme or base.scheme, loc.netloc.lower()) == (base.scheme, base.netloc.lower())
     if loc.netloc and not same:
         raise RedirectRefused(f"the service redirected to another host ({loc.netloc})")
@@ -117,6 +119,10 @@ def _location(location: str, base_url: str, gateway_prefix: str) -> str:
         raise RedirectRefused("the service redirected outside its base URL")
     rewritten = f"{gateway_prefix}/{path[len(base.path) :]}"
     return rewritten + (f"?{loc.query}" if loc.query else "")
+
+
+def _dot_segments(path: str) -> bool:
+    return any(unquote(p) in (".", "..") for p in path.split("/"))
 
 
 def content_length(headers: Headers) -> int | None:

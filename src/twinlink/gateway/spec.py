@@ -192,10 +192,11 @@ def check_base_url(url: str) -> str:
     """An http(s) URL with a host and no credentials, query or fragment; ends with `/` so
     paths are joined below it."""
     parts = urlsplit(url.strip())
-    if parts.scheme not in ("http", "https") or not parts.hostname:
-        raise ValueError(f"{url!r} is not an http:// or https:// URL with a host")
+    # The URL is never echoed back: it may hold credentials.
     if parts.username or parts.password:
         raise ValueError("put credentials in `auth`, not in the URL")
+    if parts.scheme not in ("http", "https") or not parts.hostname:
+        raise ValueError("the base URL must be an http:// or https:// URL with a host")
     if parts.query or parts.fragment:
         raise ValueError("a base URL has no query or fragment")
     path = parts.path if parts.path.endswith("/") else parts.path + "/"
