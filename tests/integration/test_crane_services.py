@@ -5,34 +5,25 @@ from __future__ import annotations
 
 import asyncio
 import hashlib
-import json
-import re
-import signal
-import sys
-from collections import Counter
 from collections.abc import AsyncIterator, Awaitable, Callable, Iterator
 from datetime import datetime
 from typing import Any
 
 import httpx
-import psutil
 import pytest
 import pytest_asyncio
-import yaml
 from asyncua import ua
 from asyncua.client.client import Client
 from asyncua.common.node import Node
 from asyncua.ua.uaerrors import BadOutOfRange, BadUserAccessDenied
 
-from tests.conftest import EXAMPLES
+from tests.integration._cad_checks import assert_closed_outward_mesh, assert_step_file
 from twinlink.crane import Crane, CranePorts, CraneSettings, start_crane
 from twinlink.crane.gateway_auth import (
-    FEATURES,
     HEALTH_PATHS,
     gateway_auth,
     gateway_base_urls,
     gateway_password_auth,
-    service_name,
 )
 from twinlink.crane.settings import OPCUA_NAMESPACE
 
@@ -257,51 +248,6 @@ async def test_historian_tokens_expire(short_lived: Crane) -> None:
 # -- CAD store --------------------------------------------------------------------------------
 
 
-def stl_triangles(text: str) -> list[tuple[tuple[float, ...], list[tuple[float, ...]]]]:
-    lines = [line.split() for line in text.splitlines()]
-    assert lines[0][0] == "solid" and lines[-1][0] == "endsolid"
-    facets = []
-    for i, words in enumerate(lines):
-        if words[:2] == ["facet", "normal"]:
-            assert lines[i + 1] == ["outer", "loop"] and lines[i + 5] == ["endloop"]
-            vertices = [tuple(map(float, lines[i + k][1:])) for k in (2, 3, 4)]
-            assert all(lines[i + k][0] == "vertex" for k in (2, 3, 4))
-            facets.append((tuple(map(float, words[2:])), vertices))
-    return facets
-
-
-def assert_closed_outward_mesh(text: str) -> None:
-    facets = stl_triangles(text)
-    assert len(facets) > 10
-    edges: Counter[tuple[tuple[float, ...], tuple[float, ...]]] = Counter()
-    volume = 0.0
-    for normal, (a, b, c) in facets:
-        u = [b[k] - a[k] for k in range(3)]
-        v = [c[k] - a[k] for k in range(3)]
-        cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
-        assert sum(n * x for n, x in zip(normal, cross, strict=True)) > 0  # normal agrees
-        volume += sum(a[k] * cross_k for k, cross_k in enumerate(_cross(b, c))) / 6
-        for p, q in ((a, b), (b, c), (c, a)):
-            edges[(p, q)] += 1
-    # Watertight and consistently wound: every edge once each way.
-    assert all(n == 1 and edges[(q, p)] == 1 for (p, q), n in edges.items())
-    assert volume > 0  # faces point outwards
-
-
-def _cross(b: tuple[float, ...], c: tuple[float, ...]) -> tuple[float, float, float]:
-    return (b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0])
-
-
-def assert_step_file(text: str) -> None:
-    assert text.startswith("ISO-10303-21;\nHEADER;") and text.endswith("END-ISO-10303-21;\n")
-    assert "FILE_SCHEMA(('AUTOMOTIVE_DESIGN" in text
-    data = text.split("DATA;\n", 1)[1].rsplit("ENDSEC;", 1)[0]
-    defined = re.findall(r"^#(\d+)=", data, flags=re.MULTILINE)
-    assert len(defined) == len(set(defined)) == data.count(";\n")
-    assert set(re.findall(r"#(\d+)", data)) == set(defined)  # every reference resolves
-    assert data.count("FACETED_BREP(") == 2 and "CLOSED_SHELL" in data
-
-
 async def test_cad_store_lists_and_serves_valid_models(crane: Crane) -> None:
     async with cad(crane) as http:
         files = (await http.get("files")).json()["files"]
@@ -463,63 +409,3 @@ async def test_gateway_settings_work_against_the_services(crane: Crane) -> None:
             got = await http.post(grant["token_url"], data=form, auth=client)
             bearer = {"Authorization": f"Bearer {got.json()['access_token']}"}
             assert (await http.get(urls["sensor-manager"], headers=bearer)).is_success
-
-
-async def test_dt_document_points_at_the_default_ports() -> None:
-    public = yaml.safe_load((EXAMPLES / "ilmatar" / "ilmatar-public.yaml").read_text())
-    features = {f["name"]: f for f in public["features"]}
-    defaults = CranePorts()
-    for feature, service in FEATURES.items():
-        port = getattr(defaults, service)
-        assert features[feature]["apiAddress"] == f"http://127.0.0.1:{port}/api/", feature
-        assert service_name(feature) in {
-            "historian",
-            "opc-ua-server",
-            "cad-store",
-            "sensor-manager",
-        }
-    assert f"opc.tcp://127.0.0.1:{defaults.opcua}/ilmatar/" in json.dumps(features["OPC UA server"])
-
-
-# Its own event loop, so that only this crane's tasks can be left over.
-@pytest.mark.asyncio(loop_scope="function")
-async def test_stop_closes_every_port_and_task() -> None:
-    before = asyncio.all_tasks()
-    crane = await start_crane(ports=FREE_PORTS, settings=CraneSettings(autopilot=False))
-    ports = [crane.ports.opcua, crane.ports.historian, crane.ports.bridge]
-    ports += [crane.ports.cad, crane.ports.sensors]
-    assert len(set(ports)) == 5 and 0 not in ports
-    await crane.stop()
-    for port in ports:
-        with pytest.raises(OSError):
-            _, writer = await asyncio.open_connection("127.0.0.1", port)
-            writer.close()
-            await writer.wait_closed()
-    ours = {c.laddr.port for c in psutil.Process().net_connections("inet") if c.laddr}
-    assert not ours & set(ports)
-    assert asyncio.all_tasks() - before == set()
-
-
-async def test_cli_prints_its_urls_and_stops_on_sigint() -> None:
-    args = ["--opcua-port", "0", "--historian-port", "0", "--bridge-port", "0"]
-    args += ["--cad-port", "0", "--sensors-port", "0", "--no-autopilot"]
-    proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "twinlink.crane", *args, stderr=asyncio.subprocess.PIPE
-    )
-    assert proc.stderr is not None
-    try:
-        async with asyncio.timeout(60):
-            line = (await proc.stderr.readline()).decode()
-        assert line.startswith("crane services ready "), line
-        urls = json.loads(line.removeprefix("crane services ready "))
-        assert set(urls) == {"opcua", "historian", "bridge", "cad", "sensors"}
-        async with httpx.AsyncClient() as http:
-            assert (await http.get(urls["historian"].removesuffix("api/") + "health")).is_success
-        proc.send_signal(signal.SIGINT)
-        async with asyncio.timeout(30):
-            rest = (await proc.stderr.read()).decode()
-            assert await proc.wait() == 0, rest
-    finally:
-        if proc.returncode is None:
-            proc.kill()
-            await proc.wait()
