@@ -16,7 +16,6 @@ from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.service import AuthError, AuthService
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.gateway import paths
-from twinlink.gateway.credentials import RefreshError, scrub
 from twinlink.gateway.exchange import (
     ASGIApp,
     Exchange,
@@ -30,6 +29,7 @@ from twinlink.gateway.headers import content_length
 from twinlink.gateway.sender import Sender
 from twinlink.gateway.service import GatewayService
 from twinlink.gateway.services import Service
+from twinlink.gateway.signin import renew, sign_in
 
 log = logging.getLogger("twinlink.gateway")
 # Request bodies up to this size are kept, so the request can be sent again after the
@@ -161,21 +161,12 @@ class GatewayApp:
             )
         body, more = await _read_start(receive, limit)
         ex.bytes_in = len(body)
-        creds = service.credentials
-        generation = await _ready(service)
+        generation = await sign_in(service)
         sender = Sender(self.gateway.pool, scope, receive, route, service, rest, limit, ex)
         conn, status, headers = await sender.send(body, more)
         if status == 401:
             await sender.drain(conn)
-            try:
-                await creds.refresh(generation)
-            except RefreshError as err:
-                raise GatewayProblem(
-                    502,
-                    f"the service {service.name!r} refused the gateway's credentials and "
-                    f"renewing them failed: {scrub(str(err), creds.secrets())}",
-                    outcome="refresh_failed",
-                ) from None
+            await renew(service, generation)
             if more:
                 raise GatewayProblem(
                     503,
@@ -185,18 +176,6 @@ class GatewayApp:
                 )
             conn, status, headers = await sender.send(body, more)
         await sender.respond(send, conn, status, headers)
-
-
-async def _ready(service: Service) -> int:
-    try:
-        return await service.credentials.ready()
-    except RefreshError as err:
-        raise GatewayProblem(
-            502,
-            f"the gateway could not sign in to the service {service.name!r}: "
-            f"{scrub(str(err), service.credentials.secrets())}",
-            outcome="refresh_failed",
-        ) from None
 
 
 async def _read_start(receive: Receive, limit: int) -> tuple[bytes, bool]:

@@ -15,7 +15,6 @@ from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed, InvalidHandshake, InvalidStatus
 
 from twinlink.gateway import paths
-from twinlink.gateway.credentials import RefreshError, scrub
 from twinlink.gateway.exchange import (
     Exchange,
     GatewayProblem,
@@ -26,6 +25,7 @@ from twinlink.gateway.exchange import (
 )
 from twinlink.gateway.headers import request_headers
 from twinlink.gateway.services import Service
+from twinlink.gateway.signin import renew, sign_in
 
 if TYPE_CHECKING:
     from twinlink.gateway.proxy import GatewayApp
@@ -88,7 +88,7 @@ async def _open(
         for p in value.decode("latin-1").split(",")
     ]
     for attempt in (0, 1):
-        generation = await _ready(service)
+        generation = await sign_in(service)
         headers, extra_query = _headers(scope, route, service), list[str]()
         service.credentials.apply(headers, extra_query)
         scheme = "wss" if service.origin.tls else "ws"
@@ -108,7 +108,7 @@ async def _open(
         except InvalidStatus as err:
             status = err.response.status_code
             if status == 401 and attempt == 0:
-                await _renew(service, generation)
+                await renew(service, generation)
                 continue
             raise GatewayProblem(
                 502,
@@ -136,31 +136,6 @@ def _headers(scope: Scope, route: paths.Route, service: Service) -> list[tuple[b
         route.prefix,
     )
     return [(k, v) for k, v in shaped if k not in _HANDSHAKE]
-
-
-async def _ready(service: Service) -> int:
-    try:
-        return await service.credentials.ready()
-    except RefreshError as err:
-        detail = scrub(str(err), service.credentials.secrets())
-        raise GatewayProblem(
-            502,
-            f"the gateway could not sign in to {service.name!r}: {detail}",
-            outcome="refresh_failed",
-        ) from None
-
-
-async def _renew(service: Service, generation: int) -> None:
-    try:
-        await service.credentials.refresh(generation)
-    except RefreshError as err:
-        detail = scrub(str(err), service.credentials.secrets())
-        raise GatewayProblem(
-            502,
-            f"the service {service.name!r} refused the gateway's "
-            f"credentials and renewing them failed: {detail}",
-            outcome="refresh_failed",
-        ) from None
 
 
 async def _deny(scope: Scope, send: Send, problem: GatewayProblem) -> None:
