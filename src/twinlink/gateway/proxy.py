@@ -121,6 +121,14 @@ class GatewayApp:
             ex.outcome = problem.outcome
             if not problem.sent:
                 await send_problem(send, problem)
+        except Exception:
+            # A bug: logged with its traceback, answered as a problem (and no traceback).
+            extra = {"event": "gateway_error", "service": route.service}
+            log.exception("gateway request failed", extra=extra)
+            answered = ex.outcome == "forwarded"  # the service's answer had started
+            ex.status, ex.outcome = 500, "error"
+            if not answered:
+                await send_problem(send, GatewayProblem(500, "the gateway failed; see its log"))
         finally:
             self.gateway.audit.record(ex.entry())
             if service is not None:
