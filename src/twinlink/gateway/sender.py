@@ -78,7 +78,7 @@ class Sender:
             if h[0] != b"content-length"
         ]
 
-    async def send(self, body: bytes, more: bool) -> tuple[_Connection, int, Headers]:
+    async def send(self, body: list[bytes], more: bool) -> tuple[_Connection, int, Headers]:
         service = self.service
         assert service.origin is not None
         headers, query = list(self.headers), list[str]()
@@ -88,19 +88,19 @@ class Sender:
             headers.append((b"transfer-encoding", b"chunked"))
         elif more and self.declared is not None:
             headers.append((b"content-length", str(self.declared).encode()))
-        elif body or self.method in _BODY_METHODS:
-            headers.append((b"content-length", str(len(body)).encode()))
+        elif (size := sum(map(len, body))) or self.method in _BODY_METHODS:
+            headers.append((b"content-length", str(size).encode()))
         client_query = service.credentials.client_query(self.scope["query_string"])
         target = paths.target(service.base_path, self.rest, client_query, query)
         head = request_head(self.method, target, headers)
-        first = _frame(body) if chunked and body else body
+        first = _framed(body) if chunked and any(body) else body
         limits = service.settings.limits
         started = time.perf_counter()
         for attempt in (0, 1):
             conn, reused = await self._connect(limits.connect_timeout_s)
             conn.begin(head_only=self.method == "HEAD")
             try:
-                await conn.write(head + first)
+                await conn.write(head, *first)
                 if more:
                     await self._stream_rest(conn, chunked)
                 status, answer = await conn.head(limits.timeout_s)
@@ -133,7 +133,7 @@ class Sender:
                 self.pool.discard(conn)
                 raise GatewayProblem(413, "the request body is over the service's size limit")
             if chunk:
-                await conn.write(_frame(chunk) if chunked else chunk)
+                await conn.write(*(_framed([chunk]) if chunked else [chunk]))
             if not message.get("more_body", False):
                 break
         if chunked:
@@ -201,5 +201,6 @@ class Sender:
             raise GatewayProblem(502, str(err), outcome=outcome, sent=True) from None
 
 
-def _frame(chunk: bytes) -> bytes:
-    return b"%x\r\n%b\r\n" % (len(chunk), chunk)
+def _framed(pieces: list[bytes]) -> list[bytes]:
+    """`pieces` as one chunk of chunked transfer coding, without copying them."""
+    return [b"%x\r\n" % sum(map(len, pieces)), *pieces, b"\r\n"]

@@ -176,10 +176,15 @@ class _Connection(asyncio.Protocol):
             self.parser = httptools.HttpResponseParser(self)
             self._fresh_parser = False
 
-    async def write(self, data: bytes) -> None:
+    async def write(self, data: bytes, *more: bytes) -> None:
+        """Send `data` (and `more`, without joining them first); wait while the service
+        reads slower than we write."""
         if self.lost or self.transport is None:
             raise UpstreamError("send", "the service closed the connection")
-        self.transport.write(data)
+        if more:
+            self.transport.writelines((data, *more))
+        else:
+            self.transport.write(data)
         if not self._can_write.is_set():
             await self._can_write.wait()
 
