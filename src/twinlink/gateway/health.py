@@ -77,6 +77,7 @@ class HealthLoop:
     async def _run(self) -> None:
         while True:
             await asyncio.sleep(INTERVAL_S)
+            self.gateway.pool.prune()
             services = [
                 s
                 for _, cached in list(self.gateway.cached())

@@ -76,7 +76,8 @@ class Service:
         parts = urlsplit(self.base_url)
         scheme = parts.scheme
         port = parts.port or (443 if scheme == "https" else 80)
-        self.origin = Origin(scheme, parts.hostname or "", port)
+        tls = self.settings.tls.context() if scheme == "https" else None
+        self.origin = Origin(scheme, parts.hostname or "", port, tls)
         self.host_header = parts.netloc.encode("idna")
         self.base_path = parts.path or "/"
 
@@ -98,6 +99,7 @@ class Service:
             "limits": s.limits.model_dump(),
             "health_path": s.health_path,
             "websocket": s.websocket,
+            "tls": {"verify": s.tls.verify, "ca_pem_set": s.tls.ca_pem is not None},
             "blocked": self.blocked,
             "gateway_path": f"/twins/{self.twin_slug}/services/{self.name}/",
         }

@@ -7,7 +7,9 @@ shown again: `public_auth` replaces each with `<field>_set: true`.
 
 from __future__ import annotations
 
+import functools
 import re
+import ssl
 from typing import Annotated, Any, Literal
 from urllib.parse import urlsplit
 
@@ -155,6 +157,45 @@ class Limits(BaseModel):
     max_body_mb: float = Field(100.0, gt=0, description="Largest request body forwarded.")
 
 
+class Tls(BaseModel):
+    """How an https:// service's certificate is checked."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    verify: bool = Field(
+        True, description="Check the certificate and host name (false: accept any; avoid)."
+    )
+    ca_pem: str | None = Field(
+        None,
+        max_length=65536,
+        description="CA certificate(s) in PEM to trust for this service (a private CA).",
+    )
+
+    @field_validator("ca_pem")
+    @classmethod
+    def _pem(cls, value: str | None) -> str | None:
+        if value is not None:
+            try:
+                ssl.create_default_context(cadata=value)
+            except (ssl.SSLError, ValueError):
+                raise ValueError("ca_pem is not a PEM certificate") from None
+        return value
+
+    def context(self) -> ssl.SSLContext:
+        return _tls_context(self.verify, self.ca_pem)
+
+
+@functools.lru_cache(maxsize=256)
+def _tls_context(verify: bool, ca_pem: str | None) -> ssl.SSLContext:
+    """One context per distinct setting: the pool keys connections by it, so services rebuilt
+    with the same settings keep reusing their connections."""
+    ctx = ssl.create_default_context(cadata=ca_pem) if ca_pem else ssl.create_default_context()
+    if not verify:
+        ctx.check_hostname = False
+        ctx.verify_mode = ssl.CERT_NONE
+    return ctx
+
+
 class ServiceSettings(BaseModel):
     """What an API call may set on a service. `base_url` is required for a service added by
     API and refused for one that comes from the DT document (its `apiAddress` is the URL)."""
@@ -168,6 +209,7 @@ class ServiceSettings(BaseModel):
     limits: Limits = Field(default_factory=Limits)
     health_path: str | None = Field(None, max_length=500)
     websocket: bool = True
+    tls: Tls = Field(default_factory=Tls)
 
     @field_validator("methods")
     @classmethod

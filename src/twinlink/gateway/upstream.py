@@ -40,6 +40,9 @@ class Origin:
     scheme: str
     host: str
     port: int
+    # The service's TLS settings (https only); part of the key, so connections made with
+    # other settings are never reused for it.
+    tls_context: ssl.SSLContext | None = None
 
     @property
     def tls(self) -> bool:
@@ -274,7 +277,6 @@ class Pool:
 
     def __init__(self) -> None:
         self._idle: dict[Origin, list[_Connection]] = {}
-        self._tls = ssl.create_default_context()
         self.opened = 0
 
     async def connect(self, origin: Origin, timeout_s: float) -> tuple[_Connection, bool]:
@@ -293,7 +295,9 @@ class Pool:
                     lambda: _Connection(origin),
                     origin.host,
                     origin.port,
-                    ssl=self._tls if origin.tls else None,
+                    ssl=(origin.tls_context or ssl.create_default_context())
+                    if origin.tls
+                    else None,
                 ),
                 timeout_s,
             )
@@ -314,6 +318,16 @@ class Pool:
             return
         conn.idle_since = time.monotonic()
         idle.append(conn)
+
+    def prune(self) -> None:
+        """Close connections idle longer than IDLE_KEEP_S, of every origin."""
+        limit = time.monotonic() - IDLE_KEEP_S
+        for origin, idle in list(self._idle.items()):
+            for conn in [c for c in idle if c.lost or c.idle_since < limit]:
+                idle.remove(conn)
+                conn._close()
+            if not idle:
+                del self._idle[origin]
 
     def discard(self, conn: _Connection) -> None:
         conn._close()

@@ -104,6 +104,7 @@ async def _open(
                 max_size=int(service.settings.limits.max_body_mb * 2**20),
                 compression=None,
                 proxy=None,
+                ssl=service.origin.tls_context if service.origin.tls else None,
             )
         except InvalidStatus as err:
             status = err.response.status_code
