@@ -211,3 +211,23 @@ async def test_broad_queries_rank_name_matches_and_count_everything(
     assert result.total == 3
     slugs = [h["slug"] for h in result.hits]
     assert slugs[0] == "c" and sorted(slugs[1:]) == ["a", "b"]  # the name match first
+
+
+async def test_the_gateway_audit_log_is_filtered_paged_and_pruned(store: SqliteStore) -> None:
+    from twinlink.store.records import AuditEntry
+
+    def entry(t: int, service: str, status: int) -> AuditEntry:
+        return AuditEntry(
+            t, "crane", service, "alice", "GET", "/x", status, "forwarded", 0, 9, 1.0, 2.0
+        )
+
+    await store.add_audit([entry(t, "historian" if t % 2 else "cad", 200) for t in range(1, 7)], 0)
+    newest = await store.list_audit({"service": "historian"}, limit=2)
+    assert [e.time_ns for e in newest] == [5, 3]
+    older = await store.list_audit({"service": "historian"}, limit=2, before_id=newest[-1].id)
+    assert [e.time_ns for e in older] == [1]
+    assert await store.list_audit({"twins": []}, limit=10) == []
+    await store.add_audit([entry(10, "cad", 502)], keep_after_ns=4)  # older than 4 ns go
+    kept = await store.list_audit({}, limit=10)
+    assert sorted(e.time_ns for e in kept) == [4, 5, 6, 10]
+    assert [e.status for e in await store.list_audit({"status": 502}, limit=10)] == [502]
