@@ -1,6 +1,6 @@
 # The documented commands. Each target installs what it needs first.
-#   make demo   the platform with the example twins, on http://127.0.0.1:8000
-#   make test   every test (unit and integration, with real servers on loopback)
+#   make demo   the platform with the example twins, on http://127.0.0.1:8000 (web app at /app/)
+#   make test   every test (unit and integration, with real servers on loopback, then the web app's)
 #   make bench  the benchmarks in bench/ (API, live data, processors, then the gateway), results in docs/benchmarks.md
 #   make lint   ruff and mypy
 
@@ -11,9 +11,19 @@ STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml edge/pyproject.toml | ck
 HOST   ?= 127.0.0.1
 PORT   ?= 8000
 
+# The web app: ui/ (Vite + React) is built into the package, src/twinlink/web/app/, and served
+# at /app/. It is rebuilt (npm install, npm run build) when its sources change. Without ui/ (or
+# its package.json) the UI steps are skipped.
+UI_OUT := src/twinlink/web/app
+ifneq ($(wildcard ui/package.json),)
+UI_BUILT := $(UI_OUT)/index.html
+UI_SRC   := $(wildcard ui/package.json ui/package-lock.json ui/index.html ui/vite.config.* \
+              ui/tsconfig*.json) $(shell find ui/src ui/public -type f 2>/dev/null)
+endif
+
 .PHONY: demo test unit integration bench lint format clean setup
 
-setup: $(STAMP)
+setup: $(STAMP) $(UI_BUILT)
 
 $(STAMP): pyproject.toml edge/pyproject.toml
 	@scripts/ensure-python.sh $(PYTHON)
@@ -24,11 +34,25 @@ $(STAMP): pyproject.toml edge/pyproject.toml
 	@rm -f $(VENV)/.installed-*
 	@touch $@
 
-demo: $(STAMP)
+$(UI_BUILT): $(UI_SRC)
+	@scripts/ensure-node.sh
+	@# npm install, not npm ci: the registry this project is built against serves rollup's
+	@# native builds for Linux only, so the lock lists only those and npm ci refuses it;
+	@# npm install keeps every version the lock pins.
+	cd ui && npm install --no-audit --no-fund && npm run build
+	@test -f $@ || { echo "npm run build wrote no $@ (see outDir in ui/vite.config.*)" >&2; exit 1; }
+	@touch $@
+
+demo: $(STAMP) $(UI_BUILT)
 	$(BIN)/twinlink demo --host $(HOST) --port $(PORT)
 
-test: $(STAMP)
+test: $(STAMP) $(UI_BUILT)
 	$(BIN)/python -m pytest tests
+ifneq ($(UI_BUILT),)
+	cd ui && { test -d node_modules || npm install --no-audit --no-fund; } && npm run typecheck && npm test
+else
+	@echo "no ui/package.json: the web app's tests are skipped"
+endif
 
 unit: $(STAMP)
 	$(BIN)/python -m pytest tests/unit
@@ -53,4 +77,4 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src edge tests bench
 
 clean:
-	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info $(UI_OUT) ui/node_modules

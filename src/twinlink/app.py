@@ -14,6 +14,7 @@ from fastapi import FastAPI
 from twinlink import __version__
 from twinlink.api import (
     apidocs,
+    app_ui,
     auth,
     commands,
     device_ws,
@@ -221,7 +222,7 @@ def create_app(
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
     routers_more = (processors, gateway_api)
-    for module in (*routers, *routers_more, search, pages):
+    for module in (*routers, *routers_more, search, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

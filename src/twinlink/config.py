@@ -122,6 +122,11 @@ class Settings(BaseSettings):
     gateway_audit_days: float = Field(
         30, ge=0, description="Keep the gateway's audit log this many days; 0 keeps it all."
     )
+    ui_dir: Path | None = Field(
+        None,
+        description="Folder of the built web app served at /app/ "
+        "[the package's twinlink/web/app, written by `npm run build` in ui/].",
+    )
 
     @classmethod
     def settings_customise_sources(

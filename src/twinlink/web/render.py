@@ -100,6 +100,7 @@ def index_page(twins: list[dict[str, Any]], signed_in: bool) -> str:
         "Digital twins",
         (
             "<section><h1>Digital twins</h1>"
+            '<p><a href="/app/"><b>Open the web app</b></a></p>'
             + note
             + f"<table><tr><th>Name</th><th>Id</th></tr>{rows}</table></section>"
             '<section><h2>API</h2><p><a href="/docs">Interactive API documentation</a> · '

@@ -1,0 +1,27 @@
+import { NavLink } from "react-router-dom";
+import { useAuth } from "../../auth/AuthContext";
+
+export function Header() {
+  const { me, logout } = useAuth();
+  return (
+    <header className="header">
+      <span className="brand">twinlink</span>
+      <nav>
+        <NavLink to="/" end>
+          Catalog
+        </NavLink>
+        <NavLink to="/gateway">Gateway</NavLink>
+      </nav>
+      <span className="spacer" />
+      {me && (
+        <span className="user" title={me.groups.length ? `groups: ${me.groups.join(", ")}` : undefined}>
+          {me.username}
+          {me.is_admin && <span className="badge">admin</span>}
+        </span>
+      )}
+      <button type="button" onClick={() => void logout()}>
+        Log out
+      </button>
+    </header>
+  );
+}

@@ -1,0 +1,106 @@
+import { afterEach, describe, expect, it, vi } from "vitest";
+import { act, fireEvent, render, screen } from "@testing-library/react";
+import { MemoryRouter } from "react-router-dom";
+import { SearchPanel, SEARCH_DEBOUNCE_MS } from "./SearchPanel";
+import { jsonResponse, mockFetch, problem } from "../../test/fetch";
+import { splitSnippet } from "./Snippet";
+
+const ANSWER = {
+  query: "crane",
+  keyword: null,
+  total: 1,
+  limit: 50,
+  offset: 0,
+  hits: [
+    {
+      slug: "ilmatar-k16052",
+      name: "Ilmatar crane",
+      score: 6.3,
+      matches: [
+        { feature: null, privacy: "public", snippet: "Ilmatar <mark>crane</mark>" },
+        { feature: "OPC UA server", privacy: "group-1", snippet: "the <mark>crane</mark>&#x27;s local &lt;b&gt;" },
+      ],
+    },
+  ],
+  facets: { keywords: [{ value: "CAD", count: 1 }], counted_hits: 1 },
+};
+
+afterEach(() => {
+  vi.useRealTimers();
+  vi.unstubAllGlobals();
+});
+
+function renderPanel() {
+  return render(
+    <MemoryRouter future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
+      <SearchPanel>
+        <p>the catalog</p>
+      </SearchPanel>
+    </MemoryRouter>,
+  );
+}
+
+async function flush() {
+  await act(async () => {
+    await Promise.resolve();
+  });
+}
+
+describe("SearchPanel", () => {
+  it("waits until typing stops, then searches once and shows ranked hits with the matching feature", async () => {
+    vi.useFakeTimers();
+    const fetch = mockFetch(() => jsonResponse(ANSWER));
+    renderPanel();
+    expect(screen.getByText("the catalog")).toBeInTheDocument();
+    const box = screen.getByLabelText("Search twins and features");
+    fireEvent.change(box, { target: { value: "c" } });
+    act(() => vi.advanceTimersByTime(100));
+    fireEvent.change(box, { target: { value: "cra" } });
+    act(() => vi.advanceTimersByTime(100));
+    fireEvent.change(box, { target: { value: "crane" } });
+    act(() => vi.advanceTimersByTime(SEARCH_DEBOUNCE_MS - 1));
+    expect(fetch).not.toHaveBeenCalled();
+    act(() => vi.advanceTimersByTime(1));
+    await flush();
+    await flush();
+    expect(fetch).toHaveBeenCalledTimes(1);
+    expect(fetch.mock.calls[0]![0]).toBe("/api/v1/search?q=crane&limit=50");
+
+    expect(screen.getByRole("link", { name: "Ilmatar crane" })).toHaveAttribute("href", "/twins/ilmatar-k16052");
+    expect(screen.getByText("OPC UA server")).toBeInTheDocument();
+    // the snippet is decoded text with the match marked, never inserted as HTML
+    expect(screen.getByText("'s local <b>")).toBeInTheDocument();
+    expect(document.querySelectorAll("mark")).toHaveLength(2);
+    expect(screen.queryByText("the catalog")).not.toBeInTheDocument();
+
+    // a keyword facet filters the search
+    fireEvent.click(screen.getByRole("button", { name: /CAD/ }));
+    await flush();
+    await flush();
+    expect(fetch.mock.calls[1]![0]).toBe("/api/v1/search?q=crane&keyword=CAD&limit=50");
+  });
+
+  it("shows the problem detail when the search fails", async () => {
+    mockFetch(() => problem(422, "q: at most 256 characters"));
+    renderPanel();
+    fireEvent.change(screen.getByLabelText("Search twins and features"), { target: { value: "x" } });
+    expect(await screen.findByRole("alert")).toHaveTextContent("q: at most 256 characters");
+  });
+
+  it("says so when nothing matches", async () => {
+    mockFetch(() => jsonResponse({ ...ANSWER, query: "zzz", total: 0, hits: [], facets: { keywords: [] } }));
+    renderPanel();
+    fireEvent.change(screen.getByLabelText("Search twins and features"), { target: { value: "zzz" } });
+    expect(await screen.findByText(/No twin matches/)).toBeInTheDocument();
+  });
+});
+
+describe("splitSnippet", () => {
+  it("splits marks and decodes entities", () => {
+    expect(splitSnippet("a <mark>b&amp;c</mark> d")).toEqual([
+      { text: "a ", marked: false },
+      { text: "b&c", marked: true },
+      { text: " d", marked: false },
+    ]);
+  });
+});

@@ -1,0 +1,121 @@
+import { Link, useParams } from "react-router-dom";
+import { listServices } from "../api/gateway";
+import { getRelations, getTwin, listDevices } from "../api/twins";
+import { Empty, ErrorMessage, Loading, formatTime } from "../components/common/Status";
+import { DocumentDetails } from "../components/twins/DocumentDetails";
+import { FeatureList, findService } from "../components/twins/FeatureList";
+import { RelationLinks } from "../components/twins/Relations";
+import { HealthBadge } from "../components/gateway/HealthBadge";
+import { useApi } from "../hooks/useApi";
+
+export function TwinPage() {
+  const slug = useParams().slug ?? "";
+  const twin = useApi((signal) => getTwin(slug, signal), [slug]);
+  // The rest needs the viewer role; a user who sees only the public part gets 403 or 404 here,
+  // which the sections show as their own message.
+  const services = useApi((signal) => listServices(slug, signal), [slug]);
+  const devices = useApi((signal) => listDevices(slug, signal), [slug]);
+  const parents = useApi((signal) => getRelations(slug, "up", signal), [slug]);
+  const children = useApi((signal) => getRelations(slug, "down", signal), [slug]);
+
+  if (twin.error) {
+    return (
+      <main className="page">
+        <p>
+          <Link to="/">← Catalog</Link>
+        </p>
+        <ErrorMessage error={twin.error} onRetry={twin.reload} />
+      </main>
+    );
+  }
+  if (!twin.data) return <main className="page"><Loading what="Loading the twin" /></main>;
+
+  const { document } = twin.data;
+  const features = document.features ?? [];
+  const serviceList = services.data ?? [];
+  const otherServices = serviceList.filter((s) => !features.some((f) => findService(f, [s])));
+
+  return (
+    <main className="page">
+      <p>
+        <Link to="/">← Catalog</Link>
+      </p>
+      <h1>{document.name ?? twin.data.name}</h1>
+      <p className="muted">
+        <span className="mono">{twin.data.id}</span> · your role: {twin.data.role ?? "none"} · parts:{" "}
+        {twin.data.levels.join(", ")} · <a href={twin.data.url}>canonical page</a>
+      </p>
+      {document.description && <p className="lead">{document.description}</p>}
+
+      <h2>Features</h2>
+      {services.error && <p className="muted">Services: {services.error.message}</p>}
+      <FeatureList slug={slug} features={features} services={serviceList} />
+      {otherServices.length > 0 && (
+        <>
+          <h3>Other gateway services</h3>
+          <FeatureList
+            slug={slug}
+            features={otherServices.map((s) => ({ name: s.name, description: s.description ?? undefined }))}
+            services={otherServices}
+          />
+        </>
+      )}
+
+      <h2>Relations</h2>
+      {parents.error || children.error ? (
+        <ErrorMessage error={(parents.error ?? children.error) as Error} />
+      ) : (
+        <div className="columns">
+          <RelationLinks title="Parents" root={parents.data} />
+          <RelationLinks title="Children" root={children.data} />
+        </div>
+      )}
+
+      <h2>Devices</h2>
+      {devices.error ? (
+        <ErrorMessage error={devices.error} />
+      ) : devices.loading && !devices.data ? (
+        <Loading />
+      ) : devices.data && devices.data.length > 0 ? (
+        <table className="table">
+          <thead>
+            <tr>
+              <th>Device</th>
+              <th>Description</th>
+              <th>Connected</th>
+              <th>Last seen</th>
+            </tr>
+          </thead>
+          <tbody>
+            {devices.data.map((d) => (
+              <tr key={d.name}>
+                <td className="mono">{d.name}</td>
+                <td>{d.description ?? ""}</td>
+                <td>{d.connected ? <span className="badge badge-ok">connected</span> : <span className="badge">no</span>}</td>
+                <td>{formatTime(d.last_seen)}</td>
+              </tr>
+            ))}
+          </tbody>
+        </table>
+      ) : (
+        <Empty>This twin has no devices.</Empty>
+      )}
+
+      {serviceList.length > 0 && (
+        <>
+          <h2>Service health</h2>
+          <ul className="inline-list">
+            {serviceList.map((s) => (
+              <li key={s.name}>
+                {s.name} <HealthBadge service={s} />
+              </li>
+            ))}
+          </ul>
+        </>
+      )}
+
+      <h2>Document</h2>
+      <DocumentDetails document={document} />
+    </main>
+  );
+}
