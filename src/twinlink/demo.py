@@ -52,7 +52,9 @@ async def start_demo_simulator(
     except NotFoundError:
         return None
     stop = asyncio.Event()
-    task = asyncio.create_task(run_tingen(base_url, token, stop), name="demo-simulator")
+    # The rig stops when the server has stopped listening: waiting long for acks is pointless.
+    rig = run_tingen(base_url, token, stop, close_timeout_s=0.5)
+    task = asyncio.create_task(rig, name="demo-simulator")
 
     async def stop_simulator() -> None:
         stop.set()

@@ -40,4 +40,11 @@ async def start_demo_crane(
         f"The Ilmatar crane's services run through the gateway: /twins/{CRANE_SLUG}/services/"
         f"{{{names}}}/..."
     )
-    return note, crane.stop
+
+    async def stop() -> None:
+        # The gateway's kept-alive connections to the services would each hold their
+        # servers' graceful shutdown until it times out: close them first.
+        services.gateway.pool.close()
+        await crane.stop()
+
+    return note, stop

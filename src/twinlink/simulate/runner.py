@@ -57,23 +57,38 @@ async def run_paced(
     return sent
 
 
-def device_for(url: str, token: str, rate_hz: float) -> AsyncDevice:
+def device_for(
+    url: str, token: str, rate_hz: float, close_timeout_s: float = 10.0
+) -> AsyncDevice:
     # Send at most every 20 ms (or every sample at low rates): the live view stays close to
     # real time while a fast source still travels in large batches.
-    return AsyncDevice(url, token, flush_interval=min(0.02, 1 / rate_hz), batch_size=5000)
+    return AsyncDevice(
+        url,
+        token,
+        flush_interval=min(0.02, 1 / rate_hz),
+        batch_size=5000,
+        close_timeout=close_timeout_s,
+    )
 
 
 async def run_tingen(
-    url: str, token: str, stop: asyncio.Event, rate_hz: float = 100.0, k: float = 0.85
+    url: str,
+    token: str,
+    stop: asyncio.Event,
+    rate_hz: float = 100.0,
+    k: float = 0.85,
+    close_timeout_s: float = 10.0,
 ) -> int:
+    """Run the simulated rig until `stop`; then wait up to `close_timeout_s` for the server to
+    acknowledge what was sent."""
     model = TingenModel(k=k)
     pace = Pace(rate_hz)
-    async with device_for(url, token, rate_hz) as device:
+    async with device_for(url, token, rate_hz, close_timeout_s) as device:
         _tingen_handlers(device, model, pace)
         await device.wait_connected(timeout=30)
         await _report(device, model, pace)
         sent = await run_paced(device, pace, model.step, stop)
-        await device.flush(timeout=10)
+        await device.flush(timeout=close_timeout_s)
     return sent
 
 
