@@ -57,9 +57,7 @@ async def run_paced(
     return sent
 
 
-def device_for(
-    url: str, token: str, rate_hz: float, close_timeout_s: float = 10.0
-) -> AsyncDevice:
+def device_for(url: str, token: str, rate_hz: float, close_timeout_s: float = 10.0) -> AsyncDevice:
     # Send at most every 20 ms (or every sample at low rates): the live view stays close to
     # real time while a fast source still travels in large batches.
     return AsyncDevice(
