@@ -47,6 +47,7 @@ demo: $(STAMP) $(UI_BUILT)
 	$(BIN)/twinlink demo --host $(HOST) --port $(PORT)
 
 test: $(STAMP) $(UI_BUILT)
+	@scripts/ensure-packages.sh chromium   # the web app's end-to-end test drives it
 	$(BIN)/python -m pytest tests
 ifneq ($(UI_BUILT),)
 	cd ui && { test -d node_modules || npm install --no-audit --no-fund; } && npm run typecheck && npm test
