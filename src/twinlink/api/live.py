@@ -25,6 +25,7 @@ from twinlink.live import protocol
 from twinlink.live.outbox import Outbox
 from twinlink.live.protocol import ClientError
 from twinlink.live.session import Authenticator, LatestReader, LiveSession
+from twinlink.tasks import until_first_done
 
 router = APIRouter(prefix="/api/v1", tags=["live"])
 log = logging.getLogger("twinlink.live")
@@ -88,17 +89,10 @@ async def _serve(websocket: WebSocket, session: LiveSession) -> BaseException | 
         asyncio.create_task(_write(websocket, session.outbox)),
     )
     try:
-        await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+        return await until_first_done(tasks)
     finally:
-        for task in tasks:
-            task.cancel()
-        await asyncio.gather(*tasks, return_exceptions=True)
         await session.stop_commands()
         session.close()
-    for task in tasks:
-        if not task.cancelled() and task.exception() is not None:
-            return task.exception()
-    return None
 
 
 async def _authenticate(websocket: WebSocket, auth: Authenticator) -> tuple[str, Principal]:

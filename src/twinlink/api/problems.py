@@ -25,7 +25,7 @@ from twinlink.domain.errors import (
 
 log = logging.getLogger("twinlink.api")
 PROBLEM = "application/problem+json"
-_TITLES = {
+TITLES = {
     400: "Bad request",
     401: "Unauthorized",
     403: "Forbidden",
@@ -42,7 +42,7 @@ _TITLES = {
 def problem(status: int, detail: str, **extra: Any) -> Response:
     body = {
         "type": "about:blank",
-        "title": _TITLES.get(status, "Error"),
+        "title": TITLES.get(status, "Error"),
         "status": status,
         "detail": detail,
         **extra,

@@ -37,3 +37,23 @@ class TokenStore:
         now = self.clock()
         for token in [t for t, (_, expires) in self._expiry.items() if now >= expires]:
             del self._expiry[token]
+
+
+class IssuesTokens:
+    """A service that hands out tokens from `_tokens`: how many so far, and their lifetime
+    (which tests shorten on a running service)."""
+
+    _tokens: TokenStore
+
+    @property
+    def tokens_issued(self) -> int:
+        return self._tokens.issued
+
+    @property
+    def token_ttl_s(self) -> float:
+        """The lifetime of tokens issued from now on (s)."""
+        return self._tokens.ttl_s
+
+    @token_ttl_s.setter
+    def token_ttl_s(self, seconds: float) -> None:
+        self._tokens.ttl_s = seconds

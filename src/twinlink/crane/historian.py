@@ -25,7 +25,7 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from twinlink.crane._http import health, json_body, json_error, page_routes
-from twinlink.crane._tokens import TokenStore
+from twinlink.crane._tokens import IssuesTokens, TokenStore
 from twinlink.crane.plant import CranePlant
 from twinlink.crane.signals import BY_NAME, SIGNALS
 
@@ -70,7 +70,7 @@ def iso(epoch: float) -> str:
     )
 
 
-class Historian:
+class Historian(IssuesTokens):
     def __init__(
         self,
         plant: CranePlant,
@@ -101,16 +101,7 @@ class Historian:
     @property
     def logins(self) -> int:
         """Tokens issued so far (each successful login issues one)."""
-        return self._tokens.issued
-
-    @property
-    def token_ttl_s(self) -> float:
-        """The lifetime of tokens issued from now on (s)."""
-        return self._tokens.ttl_s
-
-    @token_ttl_s.setter
-    def token_ttl_s(self, seconds: float) -> None:
-        self._tokens.ttl_s = seconds
+        return self.tokens_issued
 
     def sample(self) -> None:
         # Millisecond times, as served: a time read from an answer finds its sample exactly.

@@ -24,7 +24,7 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from twinlink.crane._http import health, json_body, json_error, page_routes
-from twinlink.crane._tokens import TokenStore
+from twinlink.crane._tokens import IssuesTokens, TokenStore
 from twinlink.crane.historian import iso
 from twinlink.crane.plant import CranePlant
 
@@ -105,7 +105,7 @@ def basic_credentials(header: str) -> tuple[str, str] | None:
     return (unquote_plus(client_id), unquote_plus(secret)) if sep else None
 
 
-class SensorManager:
+class SensorManager(IssuesTokens):
     def __init__(
         self,
         plant: CranePlant,
@@ -129,19 +129,6 @@ class SensorManager:
             *page_routes("Ilmatar sensor manager", "Retrofitted sensors of the crane.", ENDPOINTS),
         ]
         self.app = Starlette(routes=routes)
-
-    @property
-    def tokens_issued(self) -> int:
-        return self._tokens.issued
-
-    @property
-    def token_ttl_s(self) -> float:
-        """The lifetime of tokens issued from now on (s)."""
-        return self._tokens.ttl_s
-
-    @token_ttl_s.setter
-    def token_ttl_s(self, seconds: float) -> None:
-        self._tokens.ttl_s = seconds
 
     async def _token(self, request: Request) -> Response:
         if request.headers.get("content-type", "").split(";")[0].strip() != (

@@ -9,6 +9,7 @@ from typing import Any
 
 import orjson
 
+from twinlink.api.problems import TITLES
 from twinlink.store.records import AuditEntry
 
 Scope = MutableMapping[str, Any]
@@ -17,13 +18,9 @@ Receive = Callable[[], Awaitable[Message]]
 Send = Callable[[Message], Awaitable[None]]
 ASGIApp = Callable[[Scope, Receive, Send], Awaitable[None]]
 
+# The platform's titles, and those of the answers only a gateway gives.
 _TITLES = {
-    400: "Bad request",
-    401: "Unauthorized",
-    403: "Forbidden",
-    404: "Not found",
-    405: "Method not allowed",
-    413: "Content too large",
+    **TITLES,
     499: "Client closed request",
     502: "Bad gateway",
     503: "Service unavailable",

@@ -12,10 +12,9 @@ from __future__ import annotations
 
 import logging
 
-from twinlink.auth.rights import Principal, has_role
-from twinlink.auth.service import AuthError, AuthService
-from twinlink.domain.errors import ForbiddenError, NotFoundError
+from twinlink.auth.service import AuthService
 from twinlink.gateway import paths
+from twinlink.gateway.access import bearer, caller_of, resolve
 from twinlink.gateway.exchange import (
     ASGIApp,
     Exchange,
@@ -25,60 +24,17 @@ from twinlink.gateway.exchange import (
     Send,
     send_problem,
 )
-from twinlink.gateway.headers import content_length
 from twinlink.gateway.sender import Sender
 from twinlink.gateway.service import GatewayService
 from twinlink.gateway.services import Service
 from twinlink.gateway.signin import renew, sign_in
+from twinlink.gateway.wsproxy import forward_websocket
 
 log = logging.getLogger("twinlink.gateway")
 # Request bodies up to this size are kept, so the request can be sent again after the
 # service's credentials are renewed; larger ones stream straight through.
 REPLAY_LIMIT = 1 << 20
 READ_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
-
-
-async def caller_of(auth: AuthService, token: str | None) -> Principal:
-    if not token:
-        raise GatewayProblem(401, "a token is required: send 'Authorization: Bearer <token>'")
-    try:
-        return await auth.authenticate(token)
-    except AuthError as err:
-        raise GatewayProblem(
-            401, f"{err}. Send a valid token as 'Authorization: Bearer <token>'."
-        ) from None
-
-
-def bearer(scope: Scope) -> str | None:
-    for name, value in scope["headers"]:
-        if name == b"authorization":
-            scheme, _, token = value.decode("latin-1").partition(" ")
-            return token.strip() if scheme.lower() == "bearer" else None
-    return None
-
-
-async def resolve(
-    gateway: GatewayService, principal: Principal, route: paths.Route, need: str
-) -> Service:
-    """401 and 403 and 404, in that order, for the service a route names."""
-    slug = route.twin or gateway.default_twin
-    if slug is None:
-        raise GatewayProblem(
-            404, "no default twin is set (TWINLINK_GATEWAY_DEFAULT_TWIN); use /twins/{twin}/..."
-        )
-    try:
-        twin, role = await gateway.twin_and_role(principal, slug)
-    except ForbiddenError as err:
-        raise GatewayProblem(403, str(err)) from None
-    except NotFoundError as err:
-        raise GatewayProblem(404, str(err)) from None
-    if not has_role(principal, role, need):
-        what = "reading through" if need == "viewer" else "changing anything through"
-        raise GatewayProblem(403, f"{what} the services of {slug!r} needs the {need} role")
-    service = (await gateway.services_of(twin)).get(route.service)
-    if service is None:
-        raise GatewayProblem(404, f"the twin {slug!r} has no service {route.service!r}")
-    return service
 
 
 class GatewayApp:
@@ -90,19 +46,16 @@ class GatewayApp:
         self.auth = auth
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] == "http":
+        kind = scope["type"]
+        route = None
+        if kind == "http" or kind == "websocket":
             route = paths.match(scope.get("raw_path") or scope["path"].encode())
-            if route is not None:
-                await self.http(scope, receive, send, route)
-                return
-        elif scope["type"] == "websocket":
-            route = paths.match(scope.get("raw_path") or scope["path"].encode())
-            if route is not None:
-                from twinlink.gateway.wsproxy import forward_websocket
-
-                await forward_websocket(self, scope, receive, send, route)
-                return
-        await self.app(scope, receive, send)
+        if route is None:
+            await self.app(scope, receive, send)
+        elif kind == "http":
+            await self.http(scope, receive, send, route)
+        else:
+            await forward_websocket(self.gateway, self.auth, scope, receive, send, route)
 
     async def http(self, scope: Scope, receive: Receive, send: Send, route: paths.Route) -> None:
         method: str = scope["method"]
@@ -160,8 +113,8 @@ class GatewayApp:
         except paths.PathRefused as err:
             raise GatewayProblem(400, f"refused: {err}") from None
         limit = int(service.settings.limits.max_body_mb * 2**20)
-        declared = content_length(scope["headers"])
-        if declared is not None and declared > limit:
+        sender = Sender(self.gateway.pool, scope, receive, route, service, rest, limit, ex)
+        if sender.declared is not None and sender.declared > limit:
             raise GatewayProblem(
                 413,
                 f"the service {service.name!r} takes bodies of at most "
@@ -170,7 +123,6 @@ class GatewayApp:
         body, more = await _read_start(receive, limit)
         ex.bytes_in = sum(map(len, body))
         generation = await sign_in(service)
-        sender = Sender(self.gateway.pool, scope, receive, route, service, rest, limit, ex)
         conn, status, headers = await sender.send(body, more)
         if status == 401:
             await sender.drain(conn)

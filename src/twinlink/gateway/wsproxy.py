@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed, InvalidHandshake, InvalidStatus
 
+from twinlink.auth.service import AuthService
 from twinlink.gateway import paths
+from twinlink.gateway.access import bearer, caller_of, resolve
 from twinlink.gateway.exchange import (
     Exchange,
     GatewayProblem,
@@ -24,11 +26,10 @@ from twinlink.gateway.exchange import (
     problem_body,
 )
 from twinlink.gateway.headers import request_headers
+from twinlink.gateway.service import GatewayService
 from twinlink.gateway.services import Service
 from twinlink.gateway.signin import renew, sign_in
-
-if TYPE_CHECKING:
-    from twinlink.gateway.proxy import GatewayApp
+from twinlink.tasks import until_first_done
 
 _HANDSHAKE = frozenset(
     {
@@ -43,31 +44,34 @@ _HANDSHAKE = frozenset(
 
 
 async def forward_websocket(
-    app: GatewayApp, scope: Scope, receive: Receive, send: Send, route: paths.Route
+    gateway: GatewayService,
+    auth: AuthService,
+    scope: Scope,
+    receive: Receive,
+    send: Send,
+    route: paths.Route,
 ) -> None:
-    from twinlink.gateway.proxy import bearer, caller_of, resolve
-
     ex = Exchange("WEBSOCKET", "/" + route.rest.decode("latin-1"))
-    ex.service, ex.twin = route.service, route.twin or app.gateway.default_twin or ""
+    ex.service, ex.twin = route.service, route.twin or gateway.default_twin or ""
     await receive()  # websocket.connect
     query, query_token = paths.strip_query_param(scope["query_string"], b"access_token")
     service: Service | None = None
     try:
-        principal = await caller_of(app.auth, bearer(scope) or query_token)
+        principal = await caller_of(auth, bearer(scope) or query_token)
         ex.caller = principal.user.username if principal.user else "-"
-        service = await resolve(app.gateway, principal, route, "editor")
+        service = await resolve(gateway, principal, route, "editor")
         upstream = await _open(scope, route, service, query, ex)
     except GatewayProblem as problem:
         ex.status, ex.outcome = problem.status, problem.outcome
         await _deny(scope, send, problem)
-        app.gateway.audit.record(ex.entry())
+        gateway.audit.record(ex.entry())
         return
     ex.status, ex.outcome = 101, "forwarded"
     try:
         await send({"type": "websocket.accept", "subprotocol": upstream.subprotocol})
         await _relay(receive, send, upstream, ex)
     finally:
-        app.gateway.audit.record(ex.entry())
+        gateway.audit.record(ex.entry())
 
 
 async def _open(
@@ -178,11 +182,8 @@ async def _relay(receive: Receive, send: Send, upstream: ClientConnection, ex: E
                 {"type": "websocket.close", "code": code, "reason": upstream.close_reason or ""}
             )
 
-    tasks = [asyncio.ensure_future(client_to_service()), asyncio.ensure_future(service_to_client())]
+    tasks = [asyncio.create_task(client_to_service()), asyncio.create_task(service_to_client())]
     try:
-        await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+        await until_first_done(tasks)
     finally:
-        for task in tasks:
-            task.cancel()
-        await asyncio.gather(*tasks, return_exceptions=True)
         await upstream.close()

@@ -1,4 +1,5 @@
 import { useCallback, useEffect, useState } from "react";
+import { settle } from "./settle";
 
 export interface ApiState<T> {
   data: T | undefined;
@@ -18,19 +19,14 @@ export function useApi<T>(fn: (signal: AbortSignal) => Promise<T>, deps: unknown
   useEffect(() => {
     const controller = new AbortController();
     setLoading(true);
-    fn(controller.signal)
-      .then((value) => {
-        if (controller.signal.aborted) return;
+    settle(fn(controller.signal), controller.signal, {
+      value: (value) => {
         setData(value);
         setError(undefined);
-      })
-      .catch((err: unknown) => {
-        if (controller.signal.aborted) return;
-        setError(err instanceof Error ? err : new Error(String(err)));
-      })
-      .finally(() => {
-        if (!controller.signal.aborted) setLoading(false);
-      });
+      },
+      error: setError,
+      done: () => setLoading(false),
+    });
     return () => controller.abort();
     // eslint-disable-next-line react-hooks/exhaustive-deps
   }, [...deps, tick]);

@@ -1,6 +1,7 @@
 import { useEffect, useState, type ReactNode } from "react";
 import { search } from "../../api/search";
 import type { SearchAnswer } from "../../api/types";
+import { settle } from "../../hooks/settle";
 import { useDebounced } from "../../hooks/useDebounced";
 import { ErrorMessage, Loading } from "../common/Status";
 import { SearchResults } from "./SearchResults";
@@ -25,17 +26,14 @@ export function SearchPanel({ children }: { children?: ReactNode }) {
     }
     const controller = new AbortController();
     setLoading(true);
-    search(q, keyword, controller.signal)
-      .then((value) => {
+    settle(search(q, keyword, controller.signal), controller.signal, {
+      value: (value) => {
         setAnswer(value);
         setError(undefined);
-      })
-      .catch((err: unknown) => {
-        if (!controller.signal.aborted) setError(err instanceof Error ? err : new Error(String(err)));
-      })
-      .finally(() => {
-        if (!controller.signal.aborted) setLoading(false);
-      });
+      },
+      error: setError,
+      done: () => setLoading(false),
+    });
     return () => controller.abort();
   }, [q, keyword, active]);
 

@@ -1,6 +1,7 @@
 import { useEffect, useState } from "react";
 import { Link } from "react-router-dom";
 import { listTwins } from "../../api/twins";
+import { settle } from "../../hooks/settle";
 import type { TwinSummary } from "../../api/types";
 import { Empty, ErrorMessage, Loading, formatTime } from "../common/Status";
 
@@ -15,18 +16,15 @@ export function TwinList() {
   useEffect(() => {
     const controller = new AbortController();
     setLoading(true);
-    listTwins(cursor, 50, controller.signal)
-      .then((page) => {
+    settle(listTwins(cursor, 50, controller.signal), controller.signal, {
+      value: (page) => {
         setItems((prev) => (cursor === null ? page.items : [...prev, ...page.items]));
         setNext(page.next_cursor);
         setError(undefined);
-      })
-      .catch((err: unknown) => {
-        if (!controller.signal.aborted) setError(err instanceof Error ? err : new Error(String(err)));
-      })
-      .finally(() => {
-        if (!controller.signal.aborted) setLoading(false);
-      });
+      },
+      error: setError,
+      done: () => setLoading(false),
+    });
     return () => controller.abort();
   }, [cursor]);
 
