@@ -51,9 +51,12 @@ def test_samples_are_acked_and_stored_once_each(server: Server) -> None:
         dev.flush(TIMEOUT)
         assert (dev.acked_samples, dev.rejected, dev.buffered_samples) == (3001, 1, 0)
         assert dev.stats()["accepted_samples"] == 3000 and dev.device_name == "dev0"
-    assert len(acks) == 7 and [a.rejected for a in acks if a.rejected] == [
-        [(0, "x: None is not a number, bool or string")]
-    ]
+    # Batch boundaries depend on when the sender wakes; the refused sample is
+    # the last one sent, so it is the last of whichever batch carried it.
+    assert sum(a.accepted for a in acks) == 3000
+    assert all(a.accepted + len(a.rejected) <= 500 for a in acks)
+    (last,) = [a for a in acks if a.rejected]
+    assert last.rejected == [(last.accepted, "x: None is not a number, bool or string")]
     rows = history(server, slug)
     assert [row["values"]["x"] for row in rows] == list(range(3000))
     assert rows[7] == {"time": BASE_NS + 7, "values": {"x": 7, "label": "s1"}}
