@@ -5,7 +5,14 @@ import { Empty } from "./components/common/Status";
 import { CatalogPage } from "./routes/CatalogPage";
 import { GatewayPage } from "./routes/GatewayPage";
 import { LoginPage } from "./routes/LoginPage";
-import { TwinPage } from "./routes/TwinPage";
+import { AdminPage } from "./routes/AdminPage";
+import { TwinPage } from "./routes/twin/TwinPage";
+import { OverviewTab } from "./routes/twin/OverviewTab";
+import { LiveTab } from "./routes/twin/LiveTab";
+import { HistoryTab } from "./routes/twin/HistoryTab";
+import { CommandsTab } from "./routes/twin/CommandsTab";
+import { ProcessorsTab } from "./routes/twin/ProcessorsTab";
+import { DocumentTab } from "./routes/twin/DocumentTab";
 
 function SignedIn() {
   const { token } = useAuth();
@@ -25,8 +32,16 @@ export function AppRoutes() {
       <Route path="/login" element={<LoginPage />} />
       <Route element={<SignedIn />}>
         <Route index element={<CatalogPage />} />
-        <Route path="twins/:slug" element={<TwinPage />} />
+        <Route path="twins/:slug" element={<TwinPage />}>
+          <Route index element={<OverviewTab />} />
+          <Route path="live" element={<LiveTab />} />
+          <Route path="history" element={<HistoryTab />} />
+          <Route path="commands" element={<CommandsTab />} />
+          <Route path="processors" element={<ProcessorsTab />} />
+          <Route path="document" element={<DocumentTab />} />
+        </Route>
         <Route path="gateway" element={<GatewayPage />} />
+        <Route path="admin" element={<AdminPage />} />
         <Route path="*" element={<main className="page"><Empty>There is no such page.</Empty></main>} />
       </Route>
     </Routes>

@@ -48,6 +48,11 @@ export interface RequestOptions {
   method?: string;
   query?: Record<string, string | number | boolean | null | undefined>;
   json?: unknown;
+  /** A raw body (a file, YAML text), sent with `contentType`. */
+  body?: BodyInit;
+  contentType?: string;
+  /** The Accept header (default `application/json`). */
+  accept?: string;
   signal?: AbortSignal;
   /** Send no token and do not treat a 401 as a lost session (the login itself). */
   anonymous?: boolean;
@@ -81,14 +86,18 @@ export async function errorFromResponse(response: Response): Promise<ApiError> {
   return new ApiError(response.status, detail, problem);
 }
 
-export async function apiFetch<T>(path: string, options: RequestOptions = {}): Promise<T> {
-  const headers: Record<string, string> = { Accept: "application/json" };
+/** Send a request and answer the raw Response of a 2xx answer (for files and text);
+ * anything else is thrown as an ApiError (a 401 ends the session). */
+export async function apiRequest(path: string, options: RequestOptions = {}): Promise<Response> {
+  const headers: Record<string, string> = { Accept: options.accept ?? "application/json" };
   const token = options.anonymous ? null : getToken();
   if (token) headers.Authorization = `Bearer ${token}`;
-  let body: string | undefined;
+  let body: BodyInit | undefined = options.body;
   if (options.json !== undefined) {
     headers["Content-Type"] = "application/json";
     body = JSON.stringify(options.json);
+  } else if (body !== undefined && options.contentType) {
+    headers["Content-Type"] = options.contentType;
   }
   let response: Response;
   try {
@@ -110,6 +119,11 @@ export async function apiFetch<T>(path: string, options: RequestOptions = {}): P
     }
     throw error;
   }
+  return response;
+}
+
+export async function apiFetch<T>(path: string, options: RequestOptions = {}): Promise<T> {
+  const response = await apiRequest(path, options);
   if (response.status === 204) return undefined as T;
   return (await response.json()) as T;
 }

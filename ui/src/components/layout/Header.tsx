@@ -11,6 +11,7 @@ export function Header() {
           Catalog
         </NavLink>
         <NavLink to="/gateway">Gateway</NavLink>
+        <NavLink to="/admin">{me?.is_admin ? "Admin" : "Account"}</NavLink>
       </nav>
       <span className="spacer" />
       {me && (

@@ -1,16 +1,15 @@
-import { Link, useParams } from "react-router-dom";
-import { listServices } from "../api/gateway";
-import { getRelations, getTwin, listDevices } from "../api/twins";
-import { Empty, ErrorMessage, Loading, formatTime } from "../components/common/Status";
-import { DocumentDetails } from "../components/twins/DocumentDetails";
-import { FeatureList, findService } from "../components/twins/FeatureList";
-import { RelationLinks } from "../components/twins/Relations";
-import { HealthBadge } from "../components/gateway/HealthBadge";
-import { useApi } from "../hooks/useApi";
+import { listServices } from "../../api/gateway";
+import { getRelations, listDevices } from "../../api/twins";
+import { Empty, ErrorMessage, Loading, formatTime } from "../../components/common/Status";
+import { DocumentDetails } from "../../components/twins/DocumentDetails";
+import { FeatureList, findService } from "../../components/twins/FeatureList";
+import { RelationLinks } from "../../components/twins/Relations";
+import { HealthBadge } from "../../components/gateway/HealthBadge";
+import { useApi } from "../../hooks/useApi";
+import { useTwin } from "./context";
 
-export function TwinPage() {
-  const slug = useParams().slug ?? "";
-  const twin = useApi((signal) => getTwin(slug, signal), [slug]);
+export function OverviewTab() {
+  const { slug, twin } = useTwin();
   // The rest needs the viewer role; a user who sees only the public part gets 403 or 404 here,
   // which the sections show as their own message.
   const services = useApi((signal) => listServices(slug, signal), [slug]);
@@ -18,32 +17,16 @@ export function TwinPage() {
   const parents = useApi((signal) => getRelations(slug, "up", signal), [slug]);
   const children = useApi((signal) => getRelations(slug, "down", signal), [slug]);
 
-  if (twin.error) {
-    return (
-      <main className="page">
-        <p>
-          <Link to="/">← Catalog</Link>
-        </p>
-        <ErrorMessage error={twin.error} onRetry={twin.reload} />
-      </main>
-    );
-  }
-  if (!twin.data) return <main className="page"><Loading what="Loading the twin" /></main>;
-
-  const { document } = twin.data;
+  const { document } = twin;
   const features = document.features ?? [];
   const serviceList = services.data ?? [];
   const otherServices = serviceList.filter((s) => !features.some((f) => findService(f, [s])));
 
   return (
-    <main className="page">
-      <p>
-        <Link to="/">← Catalog</Link>
-      </p>
-      <h1>{document.name ?? twin.data.name}</h1>
+    <>
       <p className="muted">
-        <span className="mono">{twin.data.id}</span> · your role: {twin.data.role ?? "none"} · parts:{" "}
-        {twin.data.levels.join(", ")} · <a href={twin.data.url}>canonical page</a>
+        <span className="mono">{twin.id}</span> · your role: {twin.role ?? "none"} · parts:{" "}
+        {twin.levels.join(", ")} · <a href={twin.url}>canonical page</a>
       </p>
       {document.description && <p className="lead">{document.description}</p>}
 
@@ -116,6 +99,6 @@ export function TwinPage() {
 
       <h2>Document</h2>
       <DocumentDetails document={document} />
-    </main>
+    </>
   );
 }
