@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Query, Request
+from fastapi import APIRouter, Query, Request, Response
 from pydantic import BaseModel, Field
 
 from twinlink.api._body import DOCUMENT_BODY, read_documents
@@ -12,11 +12,13 @@ from twinlink.api.deps import Caller, Registry
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.rights import has_role, may_see_level
 from twinlink.domain.errors import ForbiddenError
+from twinlink.domain.yamlsource import dump_yaml
 from twinlink.registry.build import human_time
 from twinlink.registry.service import Applied, RegistryService
 from twinlink.store.records import ROLES, TwinRecord
 
 router = APIRouter(prefix="/api/v1", tags=["twins"])
+YAML = "application/yaml"
 
 
 def summary(
@@ -105,10 +107,19 @@ async def get_twin(slug: str, caller: Caller, reg: Registry) -> JSONAnswer:
 
 
 @router.put("/twins/{slug}", summary="Update a twin's document parts", openapi_extra=DOCUMENT_BODY)
-async def update_twin(slug: str, request: Request, caller: Caller, reg: Registry) -> dict[str, Any]:
+async def update_twin(
+    slug: str,
+    request: Request,
+    caller: Caller,
+    reg: Registry,
+    dry_run: Annotated[
+        bool, Query(description="check the documents and the rights; store nothing")
+    ] = False,
+) -> dict[str, Any]:
     docs = await read_documents(request)
-    result = await reg.apply(caller, docs, slug=slug, mode="update")
-    return _applied(reg, result[0])
+    result = await reg.apply(caller, docs, slug=slug, mode="update", dry_run=dry_run)
+    answer = _applied(reg, result[0])
+    return {**answer, "dry_run": True} if dry_run else answer
 
 
 @router.delete("/twins/{slug}", summary="Delete a twin (and, with cascade, its descendants)")
@@ -127,9 +138,22 @@ async def list_parts(slug: str, caller: Caller, reg: Registry) -> dict[str, Any]
     return {"levels": [lv for lv in twin.levels if may_see_level(caller, role, lv)]}
 
 
-@router.get("/twins/{slug}/parts/{level}", summary="One privacy part, as stored")
-async def get_part(slug: str, level: str, caller: Caller, reg: Registry) -> dict[str, Any]:
-    return await reg.part(caller, slug, level)
+@router.get(
+    "/twins/{slug}/parts/{level}",
+    summary="One privacy part, as stored (JSON, or YAML with format=yaml)",
+    responses={200: {"content": {"application/json": {}, YAML: {}}}},
+)
+async def get_part(
+    slug: str,
+    level: str,
+    caller: Caller,
+    reg: Registry,
+    format: Annotated[Literal["json", "yaml"], Query(description="answer format")] = "json",
+) -> Any:
+    part = await reg.part(caller, slug, level)
+    if format == "yaml":
+        return Response(dump_yaml(part), media_type=YAML + "; charset=utf-8")
+    return part
 
 
 @router.delete("/twins/{slug}/parts/{level}", summary="Remove one privacy part")

@@ -43,10 +43,17 @@ class Applier:
         self.canonical_url = canonical_url
 
     async def apply(
-        self, principal: Principal, groups: list[TwinParts], slug: str | None, mode: Mode
+        self,
+        principal: Principal,
+        groups: list[TwinParts],
+        slug: str | None,
+        mode: Mode,
+        dry_run: bool = False,
     ) -> list[Applied]:
         reserved: set[str] = set()  # slugs taken by new twins earlier in this request
         plans = [await self._plan(principal, g, slug, mode, reserved) for g in groups]
+        if dry_run:
+            return [_preview(p) for p in plans]
         return await self.write(plans)
 
     async def write(self, plans: list[_Plan]) -> list[Applied]:
@@ -192,6 +199,15 @@ class Applier:
             if candidate not in reserved and await self.store.get_twin(candidate) is None:
                 return candidate
         raise ConflictError(f"no free slug near {base!r}")
+
+
+def _preview(plan: _Plan) -> Applied:
+    """What writing `plan` would answer, without writing it (an update's dry run; a composition
+    cycle is found only by the write's transaction)."""
+    assert plan.existing is not None  # dry runs are for updates only
+    if plan.write is None:
+        return Applied(plan.existing, "unchanged", plan.existing.levels)
+    return Applied(plan.existing, "updated", sorted(plan.write.parts))
 
 
 def _public_name(parts: dict[str, dict[str, Any]]) -> str:

@@ -62,17 +62,20 @@ class RegistryService:
         *,
         slug: str | None = None,
         mode: Mode = "apply",
+        dry_run: bool = False,
     ) -> list[Applied]:
         """Validate every document, plan every twin, then write them all in one transaction:
-        a request is stored whole or not at all."""
+        a request is stored whole or not at all. `dry_run` (updates only) stops before the
+        write and answers what it would have done."""
         if principal.user is None:
             raise ForbiddenError("sign in to change twins")
         groups = group_by_twin(docs, slug)
         async with self._write_lock:
             try:
-                return await self.applier.apply(principal, groups, slug, mode)
+                return await self.applier.apply(principal, groups, slug, mode, dry_run)
             finally:
-                self.changed()
+                if not dry_run:
+                    self.changed()
 
     # -- read ----------------------------------------------------------------------------
 
