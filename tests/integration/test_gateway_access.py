@@ -283,6 +283,13 @@ def test_metrics_count_the_requests_of_each_service(server: Server, upstream: Up
     assert sample(text, "twinlink_gateway_requests_total", slug, status="200") == 3
     assert sample(text, "twinlink_gateway_requests_total", slug, status="405") == 1
     assert sample(text, "twinlink_gateway_upstream_seconds_count", slug) == 3
+    # The service's view has the same figures for the web app's monitor.
+    with server.admin as admin:
+        stats = admin.get(f"/api/v1/twins/{slug}/services/echo").json()["stats"]
+    assert stats["statuses"] == {"200": 3, "405": 1}
+    ms = stats["upstream_ms"]
+    assert 0 < ms["mean"] and ms["p50"] is not None and ms["p50"] <= ms["p95"]
+    assert stats["bytes_out"] > 0
 
 
 def sample(text: str, name: str, slug: str, **labels: str) -> float:

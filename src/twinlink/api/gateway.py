@@ -40,6 +40,7 @@ def view(service: Service) -> dict[str, Any]:
         **service.public(),
         "health": stats.health,
         "requests": sum(stats.requests.values()),
+        "stats": stats.summary(),
         "credential_refreshes": service.credentials.refreshes,
         "credential_error": service.credentials.last_error,
     }

@@ -46,6 +46,34 @@ class ServiceStats:
         self.upstream_sum_s += seconds
         self.upstream_counts[bisect.bisect_left(BUCKETS, seconds)] += 1
 
+    def summary(self) -> dict[str, Any]:
+        """The figures the web app's gateway monitor shows: answers by status, failures by
+        outcome, bytes, and the service's answer time (mean, and p50/p95 as the upper bound
+        of their histogram bucket; None above the last bucket)."""
+        count = sum(self.upstream_counts)
+        upstream: dict[str, float | None] | None = None
+        if count:
+            upstream = {
+                "mean": round(self.upstream_sum_s / count * 1000, 3),
+                "p50": self._quantile_ms(0.5, count),
+                "p95": self._quantile_ms(0.95, count),
+            }
+        return {
+            "statuses": {str(k): v for k, v in sorted(self.requests.items())},
+            "failures": dict(self.failures),
+            "bytes_in": self.bytes_in,
+            "bytes_out": self.bytes_out,
+            "upstream_ms": upstream,
+        }
+
+    def _quantile_ms(self, q: float, count: int) -> float | None:
+        seen = 0
+        for i, n in enumerate(self.upstream_counts):
+            seen += n
+            if seen >= q * count:
+                return BUCKETS[i] * 1000 if i < len(BUCKETS) else None
+        return None
+
 
 @dataclass(slots=True)
 class Service:

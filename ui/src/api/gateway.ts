@@ -8,9 +8,10 @@ export async function listServices(slug: string, signal?: AbortSignal): Promise<
   return answer.services;
 }
 
-export async function listAudit(limit = 100, signal?: AbortSignal): Promise<AuditEntry[]> {
+/** The gateway's request log, newest first: all of it (admins) or one twin's (its owners). */
+export async function listAudit(limit = 100, signal?: AbortSignal, twin?: string): Promise<AuditEntry[]> {
   const answer = await apiFetch<{ entries: AuditEntry[] }>("/api/v1/gateway/audit", {
-    query: { limit },
+    query: { limit, twin },
     signal,
   });
   return answer.entries;

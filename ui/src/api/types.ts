@@ -127,8 +127,18 @@ export interface Service {
   gateway_path: string;
   health: ServiceHealth | null;
   requests: number;
+  stats?: ServiceStats;
   credential_refreshes: number;
   credential_error: string | null;
+}
+
+/** A service's figures since the server started. */
+export interface ServiceStats {
+  statuses: Record<string, number>;
+  failures: Record<string, number>;
+  bytes_in: number;
+  bytes_out: number;
+  upstream_ms: { mean: number; p50: number | null; p95: number | null } | null;
 }
 
 export interface AuditEntry {

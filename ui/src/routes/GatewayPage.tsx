@@ -6,13 +6,19 @@ import type { Service } from "../api/types";
 import { useAuth } from "../auth/AuthContext";
 import { Empty, ErrorMessage, Loading } from "../components/common/Status";
 import { AuditTable } from "../components/gateway/AuditTable";
-import { HealthBadge } from "../components/gateway/HealthBadge";
+import { ServicesTable } from "../components/gateway/ServicesTable";
 import { useApi } from "../hooks/useApi";
 
 export const AUDIT_REFRESH_MS = 5000;
 
 /** Each twin's services; twins the user may not list services of are left out. */
-async function servicesByTwin(signal: AbortSignal): Promise<{ slug: string; name: string; services: Service[] }[]> {
+interface TwinServices {
+  slug: string;
+  name: string;
+  services: Service[];
+}
+
+async function servicesByTwin(signal: AbortSignal): Promise<TwinServices[]> {
   const page = await listTwins(null, 100, signal);
   const all = await Promise.all(
     page.items.map(async (twin) => {
@@ -26,8 +32,8 @@ async function servicesByTwin(signal: AbortSignal): Promise<{ slug: string; name
   return all.filter((t) => t.services.length > 0);
 }
 
-function AuditSection() {
-  const audit = useApi((signal) => listAudit(100, signal), []);
+function AuditSection({ twin }: { twin?: string }) {
+  const audit = useApi((signal) => listAudit(100, signal, twin), [twin]);
   const { reload } = audit;
   useEffect(() => {
     const timer = setInterval(reload, AUDIT_REFRESH_MS);
@@ -43,6 +49,33 @@ function AuditSection() {
   );
 }
 
+/** For a user who is not an admin: the log of each twin they own (others answer 403). */
+function OwnedAudit({ twins }: { twins: TwinServices[] | undefined }) {
+  const owned = useApi(
+    async (signal) => {
+      const checks = await Promise.all(
+        (twins ?? []).map((t) => listAudit(1, signal, t.slug).then(() => t, () => null)),
+      );
+      return checks.filter((t): t is TwinServices => t !== null);
+    },
+    [twins],
+  );
+  if (!twins || !owned.data) return <Loading />;
+  if (owned.data.length === 0) {
+    return <Empty>The request log is for admins and for the owners of a twin; you own no twin with services.</Empty>;
+  }
+  return (
+    <>
+      {owned.data.map((t) => (
+        <section key={t.slug}>
+          <h3>{t.name}</h3>
+          <AuditSection twin={t.slug} />
+        </section>
+      ))}
+    </>
+  );
+}
+
 export function GatewayPage() {
   const { me } = useAuth();
   const twins = useApi(servicesByTwin, []);
@@ -50,18 +83,17 @@ export function GatewayPage() {
   return (
     <main className="page">
       <h1>Gateway</h1>
-      <h2>Recent requests</h2>
-      <p className="muted">The newest 100 requests, refreshed every {AUDIT_REFRESH_MS / 1000} s.</p>
-      {me === null ? (
-        <Loading />
-      ) : me.is_admin ? (
-        <AuditSection />
-      ) : (
-        <Empty>
-          The whole request log is for admins. Owners can read their twin's log with{" "}
-          <code>GET /api/v1/gateway/audit?twin=SLUG</code> or <code>twinlink audit --twin SLUG</code>.
-        </Empty>
-      )}
+      <section aria-labelledby="recent-requests">
+        <h2 id="recent-requests">Recent requests</h2>
+        <p className="muted">The newest 100 requests, refreshed every {AUDIT_REFRESH_MS / 1000} s.</p>
+        {me === null ? (
+          <Loading />
+        ) : me.is_admin ? (
+          <AuditSection />
+        ) : (
+          <OwnedAudit twins={twins.error ? [] : twins.data} />
+        )}
+      </section>
 
       <h2>Services</h2>
       {twins.error ? (
@@ -76,34 +108,7 @@ export function GatewayPage() {
             <h3>
               <Link to={`/twins/${encodeURIComponent(twin.slug)}`}>{twin.name}</Link>
             </h3>
-            <table className="table">
-              <thead>
-                <tr>
-                  <th>Service</th>
-                  <th>Health</th>
-                  <th>Base URL</th>
-                  <th>Credentials</th>
-                  <th className="num">Requests</th>
-                </tr>
-              </thead>
-              <tbody>
-                {twin.services.map((s) => (
-                  <tr key={s.name}>
-                    <td className="mono">{s.name}</td>
-                    <td>
-                      <HealthBadge service={s} />
-                      {s.health?.ms !== undefined && <span className="muted"> {s.health.ms} ms</span>}
-                    </td>
-                    <td className="mono">{s.base_url}</td>
-                    <td>
-                      {s.auth.method}
-                      {s.credential_error && <span className="badge badge-bad" title={s.credential_error}>error</span>}
-                    </td>
-                    <td className="num">{s.requests}</td>
-                  </tr>
-                ))}
-              </tbody>
-            </table>
+            <ServicesTable services={twin.services} />
           </section>
         ))
       )}
