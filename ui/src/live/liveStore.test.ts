@@ -1,0 +1,54 @@
+import { describe, expect, it } from "vitest";
+import { capacityPerSignal, LiveStore, maxRateFor } from "./liveStore";
+
+const REFS = [
+  { stream: "telemetry", signal: "angle" },
+  { stream: "telemetry", signal: "on" },
+  { stream: "fmu", signal: "theta" },
+];
+
+function message(stream: string, samples: { time: number; values: Record<string, unknown> }[]) {
+  return { type: "samples" as const, sub: "s1", twin: "tingen", stream, received: 0, sent: 0, samples };
+}
+
+describe("LiveStore", () => {
+  it("counts every sample received and keeps the chosen numeric values", () => {
+    const store = new LiveStore(REFS, 100);
+    store.addSamples(
+      message("telemetry", [
+        { time: 1e9, values: { angle: 0.5, on: true, other: 3 } },
+        { time: 2e9, values: { angle: "bad", on: false } },
+      ]),
+    );
+    store.addSamples(message("fmu", [{ time: 3e9, values: { theta: 0.4 } }]));
+    store.addSamples(message("elsewhere", [{ time: 4e9, values: { theta: 9 } }]));
+    expect(store.points).toBe(3);
+    expect(store.latestTime()).toBe(3);
+    const [x, angle, on, theta] = store.frame(0, 4, 4);
+    expect(x).toHaveLength(3);
+    expect(angle).toEqual([0.5, null, null]);
+    expect(on).toEqual([1, 0, null]);
+    expect(theta).toEqual([null, null, 0.4]);
+    expect(store.labels()).toEqual(["telemetry/angle", "telemetry/on", "fmu/theta"]);
+  });
+
+  it("puts history before the live data, and forgets data but not the count", () => {
+    const store = new LiveStore(REFS, 100);
+    store.addSamples(message("fmu", [{ time: 5e9, values: { theta: 1 } }]));
+    store.backfill("fmu", {
+      stream: "fmu", start: 0, end: 0, points: 10, skipped: [],
+      signals: { theta: { time: [3e9, 4e9, 5e9], value: [7, 8, 9] } },
+    });
+    expect(store.frame(0, 6, 6)[3]!.filter((v) => v !== null)).toEqual([7, 8, 1]);
+    store.clearData();
+    expect(store.latestTime()).toBeUndefined();
+    expect(store.points).toBe(1);
+  });
+
+  it("limits the rate only when a window would not fit in memory", () => {
+    expect(capacityPerSignal(2)).toBe(1 << 20);
+    expect(maxRateFor(2, 10)).toBeUndefined();
+    expect(maxRateFor(2, 900)).toBe(Math.floor((1 << 20) / 900));
+    expect(maxRateFor(100, 60)).toBe(Math.floor((1 << 16) / 60));
+  });
+});
