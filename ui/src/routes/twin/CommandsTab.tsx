@@ -1,7 +1,83 @@
-import { Empty } from "../../components/common/Status";
-import { useTwin } from "./context";
+import { useCallback, useMemo, useState } from "react";
+import { readInterface, type PropertyDecl } from "../../api/commands";
+import { listDevices } from "../../api/twins";
+import type { Device } from "../../api/types";
+import { CommandCard } from "../../components/commands/CommandCard";
+import { CommandLog } from "../../components/commands/CommandLog";
+import { FreeCommandForm } from "../../components/commands/FreeCommandForm";
+import { PropertiesPanel } from "../../components/commands/PropertiesPanel";
+import { SendOptions } from "../../components/commands/SendOptions";
+import type { SendTarget } from "../../components/commands/useSendCommand";
+import { Empty, ErrorMessage, Loading } from "../../components/common/Status";
+import { useApi, type ApiState } from "../../hooks/useApi";
+import "../../components/commands/commands.css";
+import { canEdit, useTwin } from "./context";
 
+function DeviceNotes({ devices, editable }: { devices: Device[] | undefined; editable: boolean }) {
+  return (
+    <>
+      {!editable && (
+        <p className="notice">You can see the commands and properties of this twin, but sending commands and changing desired values needs the editor role.</p>
+      )}
+      {devices && devices.length === 0 && (
+        <p className="notice">This twin has no devices, so a command has nowhere to go. Add a device on the Overview tab.</p>
+      )}
+    </>
+  );
+}
+
+interface PropertiesSectionProps {
+  slug: string;
+  devices: ApiState<Device[]>;
+  decls: PropertyDecl[];
+  editable: boolean;
+}
+
+function PropertiesSection({ slug, devices, decls, editable }: PropertiesSectionProps) {
+  if (devices.error) return <ErrorMessage error={devices.error} onRetry={devices.reload} />;
+  if (!devices.data) return <Loading what="Loading devices" />;
+  if (devices.data.length === 0) return <Empty>No devices, so no properties.</Empty>;
+  return (
+    <>
+      {devices.data.map((d) => (
+        <PropertiesPanel key={d.name} slug={slug} device={d} decls={decls} editable={editable} onRefreshDevice={devices.reload} />
+      ))}
+    </>
+  );
+}
+
+/** Commands from the twin's interface with their results, the command log, and each
+ * device's reported and desired properties. */
 export function CommandsTab() {
-  const { twin } = useTwin();
-  return <Empty>Commands of {twin.name}: coming soon.</Empty>;
+  const { slug, twin } = useTwin();
+  const editable = canEdit(twin);
+  const { commands, properties } = useMemo(() => readInterface(twin.document), [twin.document]);
+  const devices = useApi((signal) => listDevices(slug, signal), [slug]);
+  const [target, setTarget] = useState<SendTarget>({ queue: false });
+  const [logKey, setLogKey] = useState(0);
+  const onSent = useCallback(() => setLogKey((k) => k + 1), []);
+
+  const several = (devices.data?.length ?? 0) > 1;
+  // With several devices the server needs a name; with one it picks it itself.
+  const effective: SendTarget = several ? target : { ...target, device: undefined };
+  const disabled = !editable;
+  return (
+    <>
+      <h2>Commands</h2>
+      <DeviceNotes devices={devices.data} editable={editable} />
+      <SendOptions devices={devices.data ?? []} target={target} disabled={disabled} onChange={setTarget} />
+      <div className="command-cards">
+        {commands.map((c) => (
+          <CommandCard key={c.name} slug={slug} command={c} target={effective} disabled={disabled} onSent={onSent} />
+        ))}
+        {commands.length === 0 && <FreeCommandForm slug={slug} target={effective} disabled={disabled} onSent={onSent} />}
+      </div>
+
+      <h2>Command log</h2>
+      <CommandLog slug={slug} refreshKey={logKey} />
+
+      <h2>Properties</h2>
+      <PropertiesSection slug={slug} devices={devices} decls={properties} editable={editable} />
+    </>
+  );
 }

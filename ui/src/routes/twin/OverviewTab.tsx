@@ -1,19 +1,20 @@
 import { listServices } from "../../api/gateway";
-import { getRelations, listDevices } from "../../api/twins";
-import { Empty, ErrorMessage, Loading, formatTime } from "../../components/common/Status";
+import { getRelations } from "../../api/twins";
+import { ErrorMessage } from "../../components/common/Status";
+import { DevicesSection } from "../../components/devices/DevicesSection";
+import { RolesSection } from "../../components/roles/RolesSection";
 import { DocumentDetails } from "../../components/twins/DocumentDetails";
 import { FeatureList, findService } from "../../components/twins/FeatureList";
 import { RelationLinks } from "../../components/twins/Relations";
 import { HealthBadge } from "../../components/gateway/HealthBadge";
 import { useApi } from "../../hooks/useApi";
-import { useTwin } from "./context";
+import { canEdit, useTwin } from "./context";
 
 export function OverviewTab() {
   const { slug, twin } = useTwin();
   // The rest needs the viewer role; a user who sees only the public part gets 403 or 404 here,
   // which the sections show as their own message.
   const services = useApi((signal) => listServices(slug, signal), [slug]);
-  const devices = useApi((signal) => listDevices(slug, signal), [slug]);
   const parents = useApi((signal) => getRelations(slug, "up", signal), [slug]);
   const children = useApi((signal) => getRelations(slug, "down", signal), [slug]);
 
@@ -54,35 +55,8 @@ export function OverviewTab() {
         </div>
       )}
 
-      <h2>Devices</h2>
-      {devices.error ? (
-        <ErrorMessage error={devices.error} />
-      ) : devices.loading && !devices.data ? (
-        <Loading />
-      ) : devices.data && devices.data.length > 0 ? (
-        <table className="table">
-          <thead>
-            <tr>
-              <th>Device</th>
-              <th>Description</th>
-              <th>Connected</th>
-              <th>Last seen</th>
-            </tr>
-          </thead>
-          <tbody>
-            {devices.data.map((d) => (
-              <tr key={d.name}>
-                <td className="mono">{d.name}</td>
-                <td>{d.description ?? ""}</td>
-                <td>{d.connected ? <span className="badge badge-ok">connected</span> : <span className="badge">no</span>}</td>
-                <td>{formatTime(d.last_seen)}</td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
-      ) : (
-        <Empty>This twin has no devices.</Empty>
-      )}
+      <DevicesSection slug={slug} canEdit={canEdit(twin)} />
+      <RolesSection slug={slug} role={twin.role} />
 
       {serviceList.length > 0 && (
         <>

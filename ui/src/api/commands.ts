@@ -1,0 +1,168 @@
+// Commands, the command log and device properties of a twin, and the twin's declared
+// `interface` read from its document (docs/api.md "Commands and properties").
+import { apiFetch } from "./client";
+import type { TwinDocument } from "./types";
+
+const enc = encodeURIComponent;
+
+export type ValueType = "number" | "integer" | "bool" | "string";
+
+/** A value the interface declares: a command parameter or a property. */
+export interface ValueDecl {
+  name: string;
+  type: ValueType;
+  unit?: string;
+  min?: number;
+  max?: number;
+  description?: string;
+}
+
+export interface ParameterDecl extends ValueDecl {
+  required: boolean;
+  default?: unknown;
+}
+
+export interface CommandDecl {
+  name: string;
+  description?: string;
+  parameters: ParameterDecl[];
+}
+
+export interface PropertyDecl extends ValueDecl {
+  writable: boolean;
+}
+
+export interface TwinInterface {
+  commands: CommandDecl[];
+  properties: PropertyDecl[];
+}
+
+export const COMMAND_STATES = ["pending", "delivered", "succeeded", "failed", "expired"] as const;
+export type CommandState = (typeof COMMAND_STATES)[number];
+
+export interface CommandRecord {
+  id: string;
+  twin: string;
+  device: string;
+  name: string;
+  args: Record<string, unknown>;
+  state: CommandState;
+  queued: boolean;
+  sent_by: string | null;
+  created: string;
+  expires: string;
+  delivered: string | null;
+  finished: string | null;
+  result: unknown;
+  error: string | null;
+  late_status: string | null;
+}
+
+export interface NewCommand {
+  name: string;
+  args: Record<string, unknown>;
+  device?: string;
+  timeout_s?: number;
+  queue?: boolean;
+  wait?: boolean;
+}
+
+export interface TimedValue {
+  value: unknown;
+  time: string;
+}
+
+export interface DeviceProperties {
+  device: string;
+  reported: Record<string, TimedValue>;
+  desired: Record<string, TimedValue>;
+  delta: Record<string, unknown>;
+  version: number;
+}
+
+const VALUE_TYPES: readonly string[] = ["number", "integer", "bool", "string"];
+
+function isRecord(value: unknown): value is Record<string, unknown> {
+  return typeof value === "object" && value !== null && !Array.isArray(value);
+}
+
+function optionalNumber(value: unknown): number | undefined {
+  return typeof value === "number" && Number.isFinite(value) ? value : undefined;
+}
+
+function optionalText(value: unknown): string | undefined {
+  return typeof value === "string" ? value : undefined;
+}
+
+function named(items: unknown): Record<string, unknown>[] {
+  return Array.isArray(items) ? items.filter((i): i is Record<string, unknown> => isRecord(i) && typeof i.name === "string") : [];
+}
+
+function valueDecl(raw: Record<string, unknown>): ValueDecl {
+  // The server treats an unknown or missing type as "number"; so does the form.
+  const type = typeof raw.type === "string" && VALUE_TYPES.includes(raw.type) ? (raw.type as ValueType) : "number";
+  return {
+    name: raw.name as string,
+    type,
+    unit: optionalText(raw.unit),
+    min: optionalNumber(raw.min),
+    max: optionalNumber(raw.max),
+    description: optionalText(raw.description),
+  };
+}
+
+/** The commands and properties a twin's document declares (empty lists when it declares none). */
+export function readInterface(document: TwinDocument): TwinInterface {
+  const raw = isRecord(document.interface) ? document.interface : {};
+  const commands = named(raw.commands).map((c) => ({
+    name: c.name as string,
+    description: optionalText(c.description),
+    parameters: named(c.parameters).map((p) => ({
+      ...valueDecl(p),
+      required: p.required === true,
+      default: p.default ?? undefined,
+    })),
+  }));
+  const properties = named(raw.properties).map((p) => ({ ...valueDecl(p), writable: p.writable === true }));
+  return { commands, properties };
+}
+
+/** Whether a command is still under way (not succeeded, failed or expired). */
+export function isOpen(record: CommandRecord): boolean {
+  return record.state === "pending" || record.state === "delivered";
+}
+
+export function sendCommand(slug: string, command: NewCommand, signal?: AbortSignal): Promise<CommandRecord> {
+  return apiFetch<CommandRecord>(`/api/v1/twins/${enc(slug)}/commands`, { method: "POST", json: command, signal });
+}
+
+export interface CommandFilter {
+  state?: CommandState | "";
+  name?: string;
+  device?: string;
+  limit?: number;
+}
+
+export async function listCommands(slug: string, filter: CommandFilter, signal?: AbortSignal): Promise<CommandRecord[]> {
+  const answer = await apiFetch<{ commands: CommandRecord[] }>(`/api/v1/twins/${enc(slug)}/commands`, {
+    query: { state: filter.state, name: filter.name, device: filter.device, limit: filter.limit },
+    signal,
+  });
+  return answer.commands;
+}
+
+export function getCommand(slug: string, id: string, signal?: AbortSignal): Promise<CommandRecord> {
+  return apiFetch<CommandRecord>(`/api/v1/twins/${enc(slug)}/commands/${enc(id)}`, { signal });
+}
+
+export function getProperties(slug: string, device: string, signal?: AbortSignal): Promise<DeviceProperties> {
+  return apiFetch<DeviceProperties>(`/api/v1/twins/${enc(slug)}/devices/${enc(device)}/properties`, { signal });
+}
+
+/** Merge `changes` into the device's desired values; a null removes one. */
+export function patchDesired(slug: string, device: string, changes: Record<string, unknown>): Promise<DeviceProperties> {
+  return apiFetch<DeviceProperties>(`/api/v1/twins/${enc(slug)}/devices/${enc(device)}/properties/desired`, {
+    method: "PATCH",
+    json: changes,
+  });
+}
