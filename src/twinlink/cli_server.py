@@ -108,7 +108,8 @@ def demo(
         click.echo(
             f"\n  Demo twins: {', '.join(loaded) or 'none found in ' + str(examples)}\n"
             f"{live if stop_simulator else ''}"
-            f"  Open {settings.base_url}/ (twins) and {settings.base_url}/docs (API).\n"
+            f"  Open {settings.base_url}/app/twins/tingen/live (the web app: Tingen live),\n"
+            f"  {settings.base_url}/ (twins) and {settings.base_url}/docs (API).\n"
             f"  Sign in as admin; the password and token are in {secrets_file}.\n"
             f"  CLI: twinlink --url {settings.base_url} login -u admin\n",
             err=True,
