@@ -66,6 +66,7 @@ def test_the_web_app_in_a_real_browser(server: Server, rig: None) -> None:
         "E2E_URL": server.url,
         "E2E_USER": "admin",
         "E2E_PASSWORD": server.admin_password,
+        "E2E_TOKEN": server.admin_token,
         "E2E_TWIN": slug,
         "E2E_SHOTS": str(SHOTS),
     }

@@ -1,6 +1,8 @@
 // End-to-end check of the web app in Debian's chromium, driven by playwright-core.
 // Run by tests/integration/test_ui_e2e.py against a real server:
-//   E2E_URL, E2E_USER, E2E_PASSWORD, E2E_TWIN (a twin with a service `self`), E2E_SHOTS (folder)
+//   E2E_URL, E2E_USER, E2E_PASSWORD, E2E_TOKEN (an admin API token), E2E_TWIN (a twin with a
+//   service `self`), E2E_SHOTS (folder). The server holds the demo's data: the example twins,
+//   Tingen streaming from the simulated rig, and Tingen.fmu uploaded.
 import { chromium } from 'playwright-core';
 
 const env = (name) => {
@@ -18,6 +20,25 @@ const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
 const pageErrors = [];
 page.on('pageerror', (e) => pageErrors.push(String(e)));
 page.setDefaultTimeout(15000);
+// How many samples a stream holds, read from the API (not the page) to know time has passed.
+const api = async (path) => {
+  const r = await fetch(`${url}${path}`, { headers: { Authorization: `Bearer ${env('E2E_TOKEN')}` } });
+  if (!r.ok) throw new Error(`GET ${path}: ${r.status}`);
+  return r.json();
+};
+const storedCount = async (twin, stream) => {
+  const { streams } = await api(`/api/v1/twins/${twin}/streams`);
+  return streams.find((s) => s.name === stream)?.count ?? 0;
+};
+const waitStored = async (twin, stream, more) => {
+  const target = (await storedCount(twin, stream)) + more;
+  const deadline = Date.now() + 20000;
+  for (;;) {
+    if ((await storedCount(twin, stream)) >= target) return;
+    if (Date.now() > deadline) throw new Error(`${twin}/${stream} did not grow by ${more} samples`);
+    await new Promise((resolve) => setTimeout(resolve, 100)); // polling interval, not a wait for an outcome
+  }
+};
 const step = async (name, fn) => {
   try {
     await fn();
@@ -55,6 +76,66 @@ try {
   await step('4-gateway', async () => {
     await page.goto(`${url}/app/gateway`);
     await page.getByText('/healthz').first().waitFor();
+  });
+  // Tingen's live page: the rig streams through `twinlink simulate`, the chart receives it.
+  const points = async () => Number(await page.getByTestId('live-points').textContent());
+  const waitPointsAbove = (n) =>
+    page.waitForFunction(
+      (min) => Number(document.querySelector('[data-testid="live-points"]')?.textContent) > min,
+      n,
+    );
+  await step('5-live', async () => {
+    await page.goto(`${url}/app/twins/tingen/live`);
+    await page.getByRole('button', { name: 'Pause' }).waitFor();
+    await waitPointsAbove(0);
+    await waitPointsAbove(await points());
+  });
+  await step('6-pause-resume', async () => {
+    await page.getByRole('button', { name: 'Pause' }).click();
+    await page.getByText('Paused: not receiving').waitFor();
+    // Samples received just before the pause may still be counted at the next refresh of the
+    // figures, so the count is read once the server has stored 50 more of the rig's samples,
+    // and again after 50 more: paused, it must not move.
+    await waitStored('tingen', 'telemetry', 50);
+    const frozen = await points();
+    await waitStored('tingen', 'telemetry', 50);
+    const after = await points();
+    if (after !== frozen) throw new Error(`paused, the chart still received points (${frozen} -> ${after})`);
+    // ...and once resumed, the chart receives again.
+    await page.getByRole('button', { name: 'Resume' }).click();
+    await waitPointsAbove(after);
+  });
+  await step('7-fmu-processor', async () => {
+    await page.goto(`${url}/app/twins/tingen/processors`);
+    await page.getByRole('button', { name: 'New processor' }).click();
+    await page.getByLabel('Blueprint').selectOption('fmu');
+    await page.getByLabel('FMU', { exact: true }).selectOption('Tingen.fmu');
+    await page.getByLabel('Signal for F').selectOption('Input_F_in');
+    await page.getByRole('button', { name: 'Create processor' }).click();
+    await page.getByTestId('processor-fmu').getByText('running').waitFor();
+  });
+  await step('8-fmu-series', async () => {
+    await waitStored('tingen', 'fmu', 1); // the processor's first outputs are stored
+    await page.goto(`${url}/app/twins/tingen/live?s=telemetry:Cantilever_Angle_radians,fmu:theta&w=10`);
+    const theta = page.getByRole('checkbox', { name: 'fmu/theta' });
+    await theta.waitFor();
+    if (!(await theta.isChecked())) throw new Error('fmu/theta is not plotted');
+    await page.getByRole('figure', { name: /fmu\/theta/ }).waitFor();
+    await page.getByTestId('stats-fmu').waitFor(); // simulated samples arrive live
+    await waitPointsAbove(await points());
+    await page.screenshot({ path: `${shots}/tingen-live.png` });
+  });
+  await step('9-document-error', async () => {
+    await page.goto(`${url}/app/twins/tingen/document`);
+    const editor = page.getByLabel(/^YAML of the .* part$/);
+    await page.waitForFunction(() => document.querySelector('textarea')?.value.includes('features:'));
+    const lines = (await editor.inputValue()).split('\n');
+    const at = lines.findIndex((line) => line.startsWith('features:'));
+    lines.splice(at + 1, 0, '- description: no name here');
+    await editor.fill(lines.join('\n'));
+    const line = at + 2; // 1-based line of the inserted entry
+    await page.locator(`[data-error-line="${line}"]`).first().waitFor();
+    await page.getByRole('list', { name: 'Problems' }).getByText(`Line ${line}`).first().waitFor();
   });
   if (pageErrors.length) throw new Error(`errors in the page: ${pageErrors.join('; ')}`);
 } finally {
