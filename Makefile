@@ -1,7 +1,7 @@
 # The documented commands. Each target installs what it needs first.
 #   make demo   the platform with the example twins, on http://127.0.0.1:8000 (web app at /app/)
 #   make test   every test (unit and integration, with real servers on loopback, then the web app's)
-#   make bench  the benchmarks in bench/ (API, live data, processors, then the gateway), results in docs/benchmarks.md
+#   make bench  the benchmarks in bench/ (API, live data, processors, gateway, web app chart), results in docs/benchmarks.md
 #   make lint   ruff and mypy
 
 PYTHON ?= python3
@@ -61,12 +61,15 @@ unit: $(STAMP)
 integration: $(STAMP)
 	$(BIN)/python -m pytest tests/integration
 
-bench: $(STAMP)
-	@scripts/ensure-packages.sh nginx-light wrk
+bench: $(STAMP) $(UI_BUILT)
+	@scripts/ensure-packages.sh nginx-light wrk chromium
 	$(BIN)/python bench/api.py
 	$(BIN)/python bench/live.py
 	$(BIN)/python bench/processors.py
 	$(BIN)/python bench/gateway.py
+ifneq ($(UI_BUILT),)
+	$(BIN)/python bench/ui_chart.py
+endif
 
 lint: $(STAMP)
 	$(BIN)/ruff check src edge tests bench
