@@ -51,7 +51,6 @@ export function TryItPanel({ slug, service }: { slug: string; service: Pick<Serv
     }
   }
 
-  const ok = call && call.status >= 200 && call.status < 300;
   return (
     <form className="try-it" onSubmit={(e) => void send(e)} aria-label={`Try ${service.name}`}>
       <div className="try-it-row">
@@ -77,20 +76,26 @@ export function TryItPanel({ slug, service }: { slug: string; service: Pick<Serv
         />
       )}
       {error && <ErrorMessage error={error} />}
-      {call && (
-        <div className="try-it-answer" data-testid="try-it-answer">
-          <div className="try-it-meta">
-            <span className={ok ? "status status-ok" : "status status-bad"}>
-              {call.status} {call.statusText}
-            </span>
-            <span>{call.ms.toFixed(1)} ms</span>
-            <span className="mono">{call.contentType || "no content type"}</span>
-            <span>{call.size.toLocaleString()} characters</span>
-          </div>
-          {call.truncated && <p className="muted">The answer is long; only its first {call.body.length.toLocaleString()} characters are shown.</p>}
-          {call.body ? <pre className="answer-body">{prettyBody(call)}</pre> : <p className="muted">(empty body)</p>}
-        </div>
-      )}
+      {call && <TryItAnswer call={call} />}
     </form>
+  );
+}
+
+/** The answer of the last call: status, time, type, size and the (pretty-printed) body. */
+function TryItAnswer({ call }: { call: ServiceCall }) {
+  const ok = call.status >= 200 && call.status < 300;
+  return (
+    <div className="try-it-answer" data-testid="try-it-answer">
+      <div className="try-it-meta">
+        <span className={ok ? "status status-ok" : "status status-bad"}>
+          {call.status} {call.statusText}
+        </span>
+        <span>{call.ms.toFixed(1)} ms</span>
+        <span className="mono">{call.contentType || "no content type"}</span>
+        <span>{call.size.toLocaleString()} characters</span>
+      </div>
+      {call.truncated && <p className="muted">The answer is long; only its first {call.body.length.toLocaleString()} characters are shown.</p>}
+      {call.body ? <pre className="answer-body">{prettyBody(call)}</pre> : <p className="muted">(empty body)</p>}
+    </div>
   );
 }
