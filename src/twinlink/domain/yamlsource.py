@@ -120,8 +120,13 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
     except yaml.MarkedYAMLError as err:
         mark = err.problem_mark or err.context_mark
         reason = " ".join(x for x in (err.context, err.problem) if x) or "malformed YAML"
+        # PyYAML 6.0.4 and later stop deep nesting in the scanner; older ones recurse
+        # until RecursionError below. Either way the user reads the same headline.
+        deep = "nesting depth" in reason
         raise DocumentError(
-            "The document is not valid YAML; nothing was stored.",
+            "The document is too deeply nested; nothing was stored."
+            if deep
+            else "The document is not valid YAML; nothing was stored.",
             [
                 Problem(
                     message=reason,
