@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from twinlink.cli_common import client_for, emit
+from twinlink.client import Client
 
 # -- twins ---------------------------------------------------------------------------------
 
@@ -176,6 +177,10 @@ def users_add(
 @users.command("set")
 @click.argument("username")
 @click.option("--password", help="New password.")
+@click.option(
+    "--current-password",
+    help="Your current password, when you change your own (prompted if left out).",
+)
 @click.option("--admin/--no-admin", default=None, help="Grant or take away platform admin.")
 @click.option("-g", "--group", "groups", multiple=True, help="Replace the user's groups.")
 @click.option("--no-groups", is_flag=True, help="Remove the user from every group.")
@@ -185,19 +190,36 @@ def users_set(
     ctx: click.Context,
     username: str,
     password: str | None,
+    current_password: str | None,
     admin: bool | None,
     groups: tuple[str, ...],
     no_groups: bool,
     disabled: bool | None,
 ) -> None:
     """Change a user. A new password or --disable ends the user's login sessions."""
+    client = client_for(ctx)
     body: dict[str, object] = {"password": password, "is_admin": admin, "disabled": disabled}
     if groups or no_groups:
         body["groups"] = [] if no_groups else list(groups)
-    client_for(ctx).json(
+    if password is not None:
+        # The server ignores it unless the change is your own: ask only then.
+        asked = current_password is None and _is_me(client, username)
+        body["current_password"] = _ask_current_password() if asked else current_password
+    client.json(
         "PATCH", f"/api/v1/users/{username}", json={k: v for k, v in body.items() if v is not None}
     )
     click.echo(f"updated user {username}")
+
+
+def _is_me(client: Client, username: str) -> bool:
+    me: str = client.json("GET", "/api/v1/auth/me")["username"]
+    return me.lower() == username.lower()
+
+
+def _ask_current_password() -> str | None:
+    # A user without a password (tokens only) has none to give: an empty answer sends none.
+    answer: str = click.prompt("Current password", hide_input=True, default="", show_default=False)
+    return answer or None
 
 
 @users.command("rm")
@@ -226,7 +248,11 @@ def tokens_ls(ctx: click.Context, all_users: bool) -> None:
         state = t["state"]
         if state == "active":
             state = f"expires {t['expires']}" if t["expires"] else "no expiry"
-        click.echo(f"{t['id']:>5}  {t['prefix']}…  {t['name']:<24} {t['kind']:<8} {state}")
+        owner = f"{t['username']:<16} " if all_users else ""
+        this = "  (this token)" if t["current"] else ""
+        click.echo(
+            f"{t['id']:>5}  {t['prefix']}…  {owner}{t['name']:<24} {t['kind']:<8} {state}{this}"
+        )
 
 
 @tokens.command("create")

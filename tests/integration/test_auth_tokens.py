@@ -278,6 +278,29 @@ def test_token_secret_is_shown_once_and_never_listed(server: Server) -> None:
     assert server.admin_token not in everyone.text
 
 
+def test_listed_tokens_name_their_user_and_mark_the_calling_one(server: Server) -> None:
+    username = unique("owner")
+    session = make_user(server, username)  # a "login session" token
+    with server.client(session) as c:
+        api = c.post("/api/v1/tokens", json={"name": "ci"}).json()
+        by_session = {t["name"]: t for t in c.get("/api/v1/tokens").json()["tokens"]}
+    with server.client(api["token"]) as c:
+        by_api = {t["name"]: t for t in c.get("/api/v1/tokens").json()["tokens"]}
+    for listed in (by_session, by_api):
+        assert {t["username"] for t in listed.values()} == {username}
+    assert by_session["login session"]["current"] is True and by_session["ci"]["current"] is False
+    assert by_api["ci"]["current"] is True and by_api["login session"]["current"] is False
+    with server.admin as admin:
+        everyone = admin.get("/api/v1/tokens", params={"all": "true"})
+    listed_all = everyone.json()["tokens"]
+    assert {t["id"]: t["username"] for t in listed_all}[api["id"]] == username
+    # Only the admin's own token is current in the admin's list; no secret nor hash is listed.
+    assert [t["username"] for t in listed_all if t["current"] is True] == ["admin"]
+    assert all(isinstance(t["current"], bool) for t in listed_all)
+    assert api["token"] not in everyone.text and session not in everyone.text
+    assert not any(k in t for t in listed_all for k in ("token", "token_hash", "hash"))
+
+
 def test_users_only_see_and_revoke_their_own_tokens(server: Server) -> None:
     alice, bob = make_user(server, unique("alice")), make_user(server, unique("bob"))
     with server.client(alice) as a:
@@ -346,7 +369,10 @@ def test_user_may_change_own_password_but_not_admin_flag(server: Server) -> None
     token = make_user(server, username, password="old-password-1")
     make_user(server, other, password="others-password")
     with server.client(token) as c:
-        r = c.patch(f"/api/v1/users/{username}", json={"password": "new-password-2"})
+        r = c.patch(
+            f"/api/v1/users/{username}",
+            json={"password": "new-password-2", "current_password": "old-password-1"},
+        )
         assert r.status_code == 200, r.text
         assert r.json()["is_admin"] is False
         # A new password ends the user's login sessions, this one included.

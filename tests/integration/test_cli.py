@@ -257,6 +257,12 @@ def test_tokens_create_prints_a_working_token(cli: Cli) -> None:
     assert me.status_code == 200 and me.json()["username"] == "admin"
     listed = cli("tokens", "ls").ok()
     assert name in listed.out and token not in listed.out
+    # The admin token the command sends is marked; the new one is not.
+    marked = [line for line in listed.out.splitlines() if line.endswith("(this token)")]
+    assert len(marked) == 1 and "bootstrap" in marked[0]
+    everyone = cli("tokens", "ls", "--all").ok()
+    [new_line] = [line for line in everyone.out.splitlines() if name in line]
+    assert new_line.split()[2] == "admin"
     token_id = next(line.split()[0] for line in listed.out.splitlines() if name in line)
     cli("tokens", "revoke", token_id).ok()
     with cli.server.client(token) as c:

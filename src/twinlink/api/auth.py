@@ -10,7 +10,7 @@ from pydantic import AfterValidator, BaseModel, Field
 
 from twinlink.api.deps import Admin, Auth, Caller
 from twinlink.auth.rights import Principal
-from twinlink.auth.service import AuthError
+from twinlink.auth.service import AuthError, ListedToken
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.registry.build import human_time, human_time_or_none
 from twinlink.store.records import ApiToken, User
@@ -51,6 +51,12 @@ class NewUser(BaseModel):
 
 class UserChange(BaseModel):
     password: str | None = Field(None, min_length=8, max_length=1024)
+    current_password: str | None = Field(
+        None,
+        max_length=1024,
+        description="the password you have now; needed to change your own password, unless"
+        " you have none",
+    )
     is_admin: bool | None = None
     groups: list[GroupName] | None = None
     disabled: bool | None = None
@@ -86,6 +92,14 @@ def token_view(t: ApiToken) -> dict[str, Any]:
     }
 
 
+def listed_token_view(listed: ListedToken) -> dict[str, Any]:
+    return {
+        **token_view(listed.record),
+        "username": listed.username,
+        "current": listed.current,
+    }
+
+
 @router.post("/auth/login", summary="Exchange a username and password for a session token")
 async def login(body: Login, auth: Auth) -> dict[str, Any]:
     issued = await auth.login(body.username, body.password)
@@ -107,7 +121,7 @@ async def me(caller: Caller) -> dict[str, Any]:
 
 @router.get("/tokens", summary="The caller's API tokens (admins: everyone's with all=true)")
 async def list_tokens(caller: Caller, auth: Auth, all: bool = False) -> dict[str, Any]:
-    return {"tokens": [token_view(t) for t in await auth.list_tokens(caller, all)]}
+    return {"tokens": [listed_token_view(t) for t in await auth.list_tokens(caller, all)]}
 
 
 @router.post("/tokens", status_code=201, summary="Create an API token; the secret is shown once")
@@ -152,6 +166,8 @@ async def update_user(
     username: str, body: UserChange, caller: Caller, auth: Auth
 ) -> dict[str, Any]:
     _may_change(caller, username, body)
+    if body.password and _is_self(caller, username):
+        await auth.check_current_password(username, body.current_password)
     return user_view(
         await auth.update_user(
             username,
@@ -180,6 +196,10 @@ def _may_change(caller: Principal, username: str, body: UserChange) -> None:
         return
     if caller.user is None:
         raise AuthError("a token is required")
-    own = caller.user.username.lower() == username.lower()
-    if not own or body.is_admin is not None or body.groups is not None or body.disabled is not None:
+    others = (body.is_admin, body.groups, body.disabled)
+    if not _is_self(caller, username) or any(x is not None for x in others):
         raise ForbiddenError("only admins change users; you may change your own password")
+
+
+def _is_self(caller: Principal, username: str) -> bool:
+    return caller.user is not None and caller.user.username.lower() == username.lower()

@@ -24,7 +24,12 @@ from twinlink.auth.secrets import (
     token_prefix,
     verify_password,
 )
-from twinlink.domain.errors import ConflictError, NotFoundError
+from twinlink.domain.errors import (
+    ConflictError,
+    ForbiddenError,
+    InvalidInputError,
+    NotFoundError,
+)
 from twinlink.store.base import MetadataStore
 from twinlink.store.records import ApiToken, User
 
@@ -55,6 +60,16 @@ class Bootstrap:
 class IssuedToken:
     token: str  # the secret, returned exactly once
     record: ApiToken
+
+
+@dataclass(slots=True)
+class ListedToken:
+    """A token as lists show it: its record (never its secret), whose it is, and whether it
+    is the one the listing request was made with."""
+
+    record: ApiToken
+    username: str
+    current: bool
 
 
 def now_ns() -> int:
@@ -173,11 +188,19 @@ class AuthService:
         with self._changing():
             await self.store.revoke_token(token_id, now_ns())
 
-    async def list_tokens(self, principal: Principal, all_users: bool) -> list[ApiToken]:
+    async def list_tokens(self, principal: Principal, all_users: bool) -> list[ListedToken]:
         assert principal.user is not None
         if all_users and principal.is_admin:
-            return await self.store.list_tokens(None)
-        return await self.store.list_tokens(principal.user.id)
+            # Tokens first: a user deleted in between takes their tokens along, while one
+            # created in between could otherwise have a token listed but no name.
+            records = await self.store.list_tokens(None)
+            names = {u.id: u.username for u in await self.store.list_users()}
+        else:
+            names = {principal.user.id: principal.user.username}
+            records = await self.store.list_tokens(principal.user.id)
+        return [
+            ListedToken(t, names.get(t.user_id, ""), t.id == principal.token_id) for t in records
+        ]
 
     async def create_user(
         self, username: str, password: str | None, is_admin: bool, groups: list[str]
@@ -211,6 +234,20 @@ class AuthService:
             )
         assert updated is not None
         return updated
+
+    async def check_current_password(self, username: str, current_password: str | None) -> None:
+        """Before users change their own password: the one they have now must come with it,
+        so a token left behind in a browser cannot lock its owner out. A user without a
+        password (one who signs in with tokens only) has none to give."""
+        user = await self.require_user(username)
+        if user.password_hash is None:
+            return
+        if not current_password:
+            raise InvalidInputError(
+                "to change your own password, send the one you have now as current_password"
+            )
+        if not verify_password(user.password_hash, current_password):
+            raise ForbiddenError("the current password is wrong; nothing was changed")
 
     async def delete_user(self, user: User) -> bool:
         """Delete the user with their tokens and roles; False when already gone."""

@@ -7,7 +7,8 @@ const enc = encodeURIComponent;
 
 // -- tokens ----------------------------------------------------------------------------------
 
-export interface TokenInfo {
+/** What the server says about any token (never its secret nor its hash). */
+export interface TokenFields {
   id: number;
   name: string;
   state: "active" | "expired" | "revoked";
@@ -19,8 +20,16 @@ export interface TokenInfo {
   revoked: string | null;
 }
 
+/** A token as `GET /api/v1/tokens` lists it. */
+export interface TokenInfo extends TokenFields {
+  /** The user the token belongs to. */
+  username: string;
+  /** Whether it is the token the listing was asked with: this session's. */
+  current: boolean;
+}
+
 /** A token just created: the only answer that holds its secret. */
-export interface IssuedToken extends TokenInfo {
+export interface IssuedToken extends TokenFields {
   token: string;
   username?: string;
 }
@@ -62,6 +71,8 @@ export interface NewUser {
 /** Only the fields given change. */
 export interface UserChange {
   password?: string;
+  /** Needed with a new password of one's own, unless one has none yet. */
+  current_password?: string;
   is_admin?: boolean;
   groups?: string[];
   disabled?: boolean;

@@ -1,9 +1,9 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
 import { fireEvent, render, screen, within } from "@testing-library/react";
 import type { TokenInfo, User } from "../api/admin";
-import { setToken } from "../api/client";
+import { getToken, setToken } from "../api/client";
 import { AuthProvider } from "../auth/AuthContext";
-import { jsonResponse, mockFetch } from "../test/fetch";
+import { jsonResponse, mockFetch, problem } from "../test/fetch";
 import { AdminPage } from "./AdminPage";
 
 afterEach(() => {
@@ -15,8 +15,14 @@ const T = "2026-11-21T10:00:00.000Z";
 const SECRET = "tl_SuperSecretValue0123456789abcdefghijklmnopq";
 const alice: User = { username: "alice", is_admin: false, groups: ["group-1"], disabled: false, created: T };
 const root: User = { username: "root", is_admin: true, groups: [], disabled: false, created: T };
-const session: TokenInfo = { id: 1, name: "login session", state: "active", prefix: "tl_Sessio", kind: "session", created: T, expires: T, last_used: T, revoked: null };
-const ci: TokenInfo = { id: 6, name: "ci", state: "active", prefix: "tl_SuperS", kind: "api", created: T, expires: null, last_used: null, revoked: null };
+const session: TokenInfo = { id: 1, name: "login session", state: "active", prefix: "tl_Sessio", kind: "session", created: T, expires: T, last_used: T, revoked: null, username: "alice", current: true };
+const ci: TokenInfo = { id: 6, name: "ci", state: "active", prefix: "tl_SuperS", kind: "api", created: T, expires: null, last_used: null, revoked: null, username: "alice", current: false };
+
+function fillPasswordForm(form: HTMLElement, current: string, next: string) {
+  fireEvent.change(within(form).getByLabelText("Current password"), { target: { value: current } });
+  fireEvent.change(within(form).getByLabelText("New password"), { target: { value: next } });
+  fireEvent.change(within(form).getByLabelText("Repeat the new password"), { target: { value: next } });
+}
 
 function renderPage() {
   setToken("tl_SessionToken");
@@ -96,7 +102,7 @@ describe("AdminPage", () => {
     const fetch = mockFetch((url, init) => {
       if (url === "/api/v1/auth/me") return jsonResponse(root);
       if (url === "/api/v1/users/alice" && init?.method === "PATCH") return jsonResponse({ ...alice, disabled: true });
-      if (url === "/api/v1/users/alice/tokens") return jsonResponse({ token: SECRET, username: "alice", ...ci }, 201);
+      if (url === "/api/v1/users/alice/tokens") return jsonResponse({ token: SECRET, ...ci, username: "alice" }, 201);
       if (url === "/api/v1/users") return jsonResponse({ users: [root, alice] });
       return jsonResponse({ tokens: [] });
     });
@@ -117,7 +123,7 @@ describe("AdminPage", () => {
     expect(screen.getByText(/of alice/)).toBeInTheDocument();
   });
 
-  it("changes the own password and says the session has ended", async () => {
+  it("changes the own password with the current one and says the session has ended", async () => {
     const fetch = mockFetch((url, init) => {
       if (url === "/api/v1/auth/me") return jsonResponse(alice);
       if (init?.method === "PATCH") return jsonResponse(alice);
@@ -126,12 +132,72 @@ describe("AdminPage", () => {
     renderPage();
     const form = await screen.findByRole("form", { name: "Change your password" });
     expect(form).toHaveTextContent("signs you out everywhere");
-    fireEvent.change(within(form).getByLabelText("New password"), { target: { value: "newpassword1" } });
-    fireEvent.change(within(form).getByLabelText("Repeat the new password"), { target: { value: "newpassword1" } });
+    fillPasswordForm(form, "oldpassword0", "newpassword1");
     fireEvent.click(within(form).getByRole("button", { name: "Change password" }));
     expect(await screen.findByText(/this one too: sign in again/)).toBeInTheDocument();
     const patch = fetch.mock.calls.find(([, i]) => i?.method === "PATCH")!;
     expect(patch[0]).toBe("/api/v1/users/alice");
-    expect(JSON.parse(String(patch[1]?.body))).toEqual({ password: "newpassword1" });
+    expect(JSON.parse(String(patch[1]?.body))).toEqual({ password: "newpassword1", current_password: "oldpassword0" });
+  });
+
+  it("says so when the current password is missing or wrong, and stays signed in", async () => {
+    const fetch = mockFetch((url, init) => {
+      if (url === "/api/v1/auth/me") return jsonResponse(alice);
+      if (init?.method === "PATCH") {
+        const body = JSON.parse(String(init.body)) as { current_password?: string };
+        if (!body.current_password) return problem(422, "to change your own password, send the one you have now as current_password");
+        return problem(403, "the current password is wrong; nothing was changed");
+      }
+      return jsonResponse({ tokens: [] });
+    });
+    renderPage();
+    const form = await screen.findByRole("form", { name: "Change your password" });
+    fillPasswordForm(form, "", "newpassword1");
+    fireEvent.click(within(form).getByRole("button", { name: "Change password" }));
+    expect(await within(form).findByRole("alert")).toHaveTextContent("Enter your current password");
+    const first = fetch.mock.calls.find(([, i]) => i?.method === "PATCH")!;
+    expect(JSON.parse(String(first[1]?.body))).toEqual({ password: "newpassword1" });
+
+    fillPasswordForm(form, "not-the-one", "newpassword1");
+    fireEvent.click(within(form).getByRole("button", { name: "Change password" }));
+    await vi.waitFor(() => expect(within(form).getByRole("alert")).toHaveTextContent("the current password is wrong"));
+    expect(screen.queryByText(/this one too: sign in again/)).not.toBeInTheDocument();
+    expect(getToken()).toBe("tl_SessionToken");
+  });
+
+  it("marks this session's token and warns that revoking it signs you out", async () => {
+    const confirm = vi.spyOn(window, "confirm").mockReturnValue(false);
+    const fetch = mockFetch((url) => (url === "/api/v1/auth/me" ? jsonResponse(alice) : jsonResponse({ tokens: [session, ci] })));
+    renderPage();
+    const table = await screen.findByTestId("token-table");
+    const current = (await within(table).findByText("login session")).closest("tr")!;
+    expect(current).toHaveTextContent("this session");
+    expect(within(table).getByText("ci").closest("tr")!).not.toHaveTextContent("this session");
+    expect(within(table).queryByRole("columnheader", { name: "User" })).not.toBeInTheDocument();
+
+    fireEvent.click(within(current).getByRole("button", { name: "Revoke and sign out" }));
+    expect(confirm).toHaveBeenCalledWith(expect.stringContaining("you will be signed out"));
+    fireEvent.click(within(within(table).getByText("ci").closest("tr")!).getByRole("button", { name: "Revoke" }));
+    expect(confirm).toHaveBeenLastCalledWith(expect.not.stringContaining("signed out"));
+    expect(fetch.mock.calls.some(([, i]) => i?.method === "DELETE")).toBe(false);
+  });
+
+  it("shows whose each token is in the admin's list of all tokens", async () => {
+    const bobs: TokenInfo = { ...ci, id: 9, name: "ingest job", username: "bob" };
+    const mine: TokenInfo = { ...session, username: "root" };
+    mockFetch((url) => {
+      if (url === "/api/v1/auth/me") return jsonResponse(root);
+      if (url === "/api/v1/users") return jsonResponse({ users: [root] });
+      if (url === "/api/v1/tokens?all=true") return jsonResponse({ tokens: [mine, bobs] });
+      return jsonResponse({ tokens: [mine] });
+    });
+    renderPage();
+    await screen.findByText("ingest job");
+    const [own, all] = screen.getAllByTestId("token-table");
+    expect(within(own!).queryByRole("columnheader", { name: "User" })).not.toBeInTheDocument();
+    expect(within(all!).getByRole("columnheader", { name: "User" })).toBeInTheDocument();
+    const bobRow = within(all!).getByText("ingest job").closest("tr")!;
+    expect(within(bobRow).getAllByRole("cell")[0]).toHaveTextContent("bob");
+    expect(within(all!).getByText("login session").closest("tr")!).toHaveTextContent("root");
   });
 });

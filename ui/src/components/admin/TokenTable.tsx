@@ -1,19 +1,20 @@
 import type { TokenInfo } from "../../api/admin";
-import { getToken } from "../../api/client";
 import { formatTime } from "../common/Status";
 
-/** Whether a listed token is the one this browser tab signed in with (by its prefix). */
-export function isThisSession(token: TokenInfo): boolean {
-  const own = getToken();
-  return own !== null && token.prefix.length > 0 && own.startsWith(token.prefix);
+interface RowProps {
+  token: TokenInfo;
+  showUser: boolean;
+  busy: boolean;
+  onRevoke: (t: TokenInfo) => void;
 }
 
-function TokenRow({ token: t, busy, onRevoke }: { token: TokenInfo; busy: boolean; onRevoke: (t: TokenInfo) => void }) {
+function TokenRow({ token: t, showUser, busy, onRevoke }: RowProps) {
   return (
-    <tr>
+    <tr className={t.current ? "token-current" : undefined}>
+      {showUser && <td>{t.username}</td>}
       <td>
         {t.name}
-        {isThisSession(t) && <span className="badge">this session</span>}
+        {t.current && <span className="badge">this session</span>}
       </td>
       <td>{t.kind}</td>
       <td>
@@ -25,8 +26,15 @@ function TokenRow({ token: t, busy, onRevoke }: { token: TokenInfo; busy: boolea
       <td>{formatTime(t.last_used)}</td>
       <td>
         {t.state === "active" && (
-          <button type="button" className="danger" disabled={busy} onClick={() => onRevoke(t)}>
-            Revoke
+          // The server marks the token this tab signed in with: revoking it signs you out.
+          <button
+            type="button"
+            className="danger"
+            disabled={busy}
+            title={t.current ? "This session's token: revoking it signs you out" : undefined}
+            onClick={() => onRevoke(t)}
+          >
+            {t.current ? "Revoke and sign out" : "Revoke"}
           </button>
         )}
       </td>
@@ -34,12 +42,21 @@ function TokenRow({ token: t, busy, onRevoke }: { token: TokenInfo; busy: boolea
   );
 }
 
+interface Props {
+  tokens: TokenInfo[];
+  /** Add a column with the user each token belongs to (every user's tokens). */
+  showUser?: boolean;
+  busy: boolean;
+  onRevoke: (t: TokenInfo) => void;
+}
+
 /** Tokens as the server lists them: never with their secrets. */
-export function TokenTable({ tokens, busy, onRevoke }: { tokens: TokenInfo[]; busy: boolean; onRevoke: (t: TokenInfo) => void }) {
+export function TokenTable({ tokens, showUser = false, busy, onRevoke }: Props) {
   return (
     <table className="table" data-testid="token-table">
       <thead>
         <tr>
+          {showUser && <th>User</th>}
           <th>Name</th>
           <th>Kind</th>
           <th>State</th>
@@ -52,7 +69,7 @@ export function TokenTable({ tokens, busy, onRevoke }: { tokens: TokenInfo[]; bu
       </thead>
       <tbody>
         {tokens.map((t) => (
-          <TokenRow key={t.id} token={t} busy={busy} onRevoke={onRevoke} />
+          <TokenRow key={t.id} token={t} showUser={showUser} busy={busy} onRevoke={onRevoke} />
         ))}
       </tbody>
     </table>

@@ -4,12 +4,15 @@ import { useApi } from "../../hooks/useApi";
 import { Empty, ErrorMessage, Loading } from "../common/Status";
 import { CreateTokenForm } from "./CreateTokenForm";
 import { SecretOnce } from "./SecretOnce";
-import { TokenTable, isThisSession } from "./TokenTable";
+import { TokenTable } from "./TokenTable";
 import { useAction } from "./useAction";
 
 function revokeQuestion(t: TokenInfo): string {
-  if (isThisSession(t)) return `Revoke "${t.name}"? It is this session: you will be signed out.`;
-  return `Revoke the token "${t.name}" (${t.prefix}…)? Anything that uses it stops working at once.`;
+  if (t.current) {
+    return `Revoke "${t.name}"? It is the token of this session: you will be signed out at once and have to sign in again.`;
+  }
+  const whose = t.username ? ` of ${t.username}` : "";
+  return `Revoke the token "${t.name}"${whose} (${t.prefix}…)? Anything that uses it stops working at once.`;
 }
 
 /** The caller's tokens, or with `all` every user's (admins), with revoking; the caller's own
@@ -48,7 +51,7 @@ export function TokensSection({ all = false }: { all?: boolean }) {
       ) : tokens.data.length === 0 ? (
         <Empty>No tokens.</Empty>
       ) : (
-        <TokenTable tokens={tokens.data} busy={action.busy} onRevoke={revoke} />
+        <TokenTable tokens={tokens.data} showUser={all} busy={action.busy} onRevoke={revoke} />
       )}
       {!all && <CreateTokenForm busy={action.busy} label="Create a token" onCreate={create} />}
     </>
