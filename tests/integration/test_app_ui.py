@@ -57,6 +57,8 @@ def test_index_without_a_token(server: Server, built: Path) -> None:
         r = anon.get("/app", follow_redirects=False)
         assert r.status_code in (301, 302, 307, 308)
         assert r.headers["location"] == "/app/"
+        r = anon.get("/app?view=tree&q=crane", follow_redirects=False)
+        assert r.headers["location"] == "/app/?view=tree&q=crane"
 
         # The landing page links to the app.
         assert 'href="/app/"' in anon.get("/").text

@@ -59,11 +59,19 @@ try {
     await page.getByRole('heading', { name: 'Catalog' }).waitFor();
   });
   await step('2-search-cad', async () => {
+    // The hit names the feature that matched; its link opens the twin at that feature's card.
     await page.getByLabel('Search twins and features').fill('CAD');
-    await page.getByText('CAD store').first().waitFor();
-    await page.getByRole('link', { name: 'Ilmatar crane' }).first().click();
+    await page.getByRole('link', { name: 'CAD store' }).first().click();
     await page.getByRole('heading', { name: 'Ilmatar crane' }).waitFor();
-    await page.getByRole('heading', { name: 'CAD store' }).waitFor();
+    // The card is highlighted...
+    const card = page.locator('#feature-cad-store.feature-target');
+    await card.getByRole('heading', { name: 'CAD store' }).waitFor();
+    await card.getByText('PLM', { exact: true }).waitFor();
+    // ...and scrolled into view.
+    await page.waitForFunction(() => {
+      const top = document.querySelector('#feature-cad-store')?.getBoundingClientRect().top;
+      return top !== undefined && top >= 0 && top < window.innerHeight;
+    });
   });
   await step('3-try-it', async () => {
     await page.goto(`${url}/app/twins/${env('E2E_TWIN')}`);

@@ -81,8 +81,10 @@ def _not_found() -> Response:
 
 
 @router.api_route("/app", methods=["GET", "HEAD"])
-async def app_root() -> RedirectResponse:
-    return RedirectResponse("/app/", status_code=308)
+async def app_root(request: Request) -> RedirectResponse:
+    # The app's own links to its root carry state in the query (the catalog's ?view=tree).
+    query = request.url.query
+    return RedirectResponse(f"/app/?{query}" if query else "/app/", status_code=308)
 
 
 @router.api_route("/app/{path:path}", methods=["GET", "HEAD"])

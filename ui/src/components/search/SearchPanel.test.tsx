@@ -1,5 +1,5 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
-import { act, fireEvent, render, screen } from "@testing-library/react";
+import { act, fireEvent, render, screen, within } from "@testing-library/react";
 import { MemoryRouter } from "react-router-dom";
 import { SearchPanel, SEARCH_DEBOUNCE_MS } from "./SearchPanel";
 import { jsonResponse, mockFetch, problem } from "../../test/fetch";
@@ -25,6 +25,21 @@ const ANSWER = {
   facets: { keywords: [{ value: "CAD", count: 1 }], counted_hits: 1 },
 };
 
+/** The catalog's keywords: what the server answers to an empty query. */
+const CATALOG = {
+  query: "",
+  keyword: null,
+  total: 3,
+  limit: 1,
+  offset: 0,
+  hits: [{ slug: "hall", name: "Hall", score: 0, matches: [] }],
+  facets: { keywords: [{ value: "PLC", count: 2 }, { value: "CAD", count: 1 }], counted_hits: 3 },
+};
+
+const CATALOG_URL = "/api/v1/search?limit=1";
+const searchCalls = (fetch: ReturnType<typeof mockFetch>) =>
+  fetch.mock.calls.map((call) => String(call[0])).filter((url) => url !== CATALOG_URL);
+
 afterEach(() => {
   vi.useRealTimers();
   vi.unstubAllGlobals();
@@ -49,7 +64,7 @@ async function flush() {
 describe("SearchPanel", () => {
   it("waits until typing stops, then searches once and shows ranked hits with the matching feature", async () => {
     vi.useFakeTimers();
-    const fetch = mockFetch(() => jsonResponse(ANSWER));
+    const fetch = mockFetch((url) => jsonResponse(url === CATALOG_URL ? CATALOG : ANSWER));
     renderPanel();
     expect(screen.getByText("the catalog")).toBeInTheDocument();
     const box = screen.getByLabelText("Search twins and features");
@@ -59,15 +74,18 @@ describe("SearchPanel", () => {
     act(() => vi.advanceTimersByTime(100));
     fireEvent.change(box, { target: { value: "crane" } });
     act(() => vi.advanceTimersByTime(SEARCH_DEBOUNCE_MS - 1));
-    expect(fetch).not.toHaveBeenCalled();
+    expect(searchCalls(fetch)).toEqual([]);
     act(() => vi.advanceTimersByTime(1));
     await flush();
     await flush();
-    expect(fetch).toHaveBeenCalledTimes(1);
-    expect(fetch.mock.calls[0]![0]).toBe("/api/v1/search?q=crane&limit=50");
+    expect(searchCalls(fetch)).toEqual(["/api/v1/search?q=crane&limit=50"]);
 
     expect(screen.getByRole("link", { name: "Ilmatar crane" })).toHaveAttribute("href", "/twins/ilmatar-k16052");
-    expect(screen.getByText("OPC UA server")).toBeInTheDocument();
+    // the feature that matched links to its card on the twin's page
+    expect(screen.getByRole("link", { name: "OPC UA server" })).toHaveAttribute(
+      "href",
+      "/twins/ilmatar-k16052#feature-opc-ua-server",
+    );
     // the snippet is decoded text with the match marked, never inserted as HTML
     expect(screen.getByText("'s local <b>")).toBeInTheDocument();
     expect(document.querySelectorAll("mark")).toHaveLength(2);
@@ -77,7 +95,34 @@ describe("SearchPanel", () => {
     fireEvent.click(screen.getByRole("button", { name: /CAD/ }));
     await flush();
     await flush();
-    expect(fetch.mock.calls[1]![0]).toBe("/api/v1/search?q=crane&keyword=CAD&limit=50");
+    expect(searchCalls(fetch)[1]).toBe("/api/v1/search?q=crane&keyword=CAD&limit=50");
+  });
+
+  it("shows the catalog's keywords before anything is typed, and filters by one on a click", async () => {
+    const fetch = mockFetch((url) => jsonResponse(url === CATALOG_URL ? CATALOG : { ...ANSWER, query: "", keyword: "PLC" }));
+    renderPanel();
+    const facets = await screen.findByRole("complementary", { name: "Keywords" });
+    expect(screen.getByText("the catalog")).toBeInTheDocument();
+    expect(fetch.mock.calls.map((call) => call[0])).toEqual([CATALOG_URL]);
+
+    fireEvent.click(within(facets).getByRole("button", { name: /PLC/ }));
+    expect(await screen.findByRole("link", { name: "Ilmatar crane" })).toBeInTheDocument();
+    expect(searchCalls(fetch)).toEqual(["/api/v1/search?keyword=PLC&limit=50"]);
+    expect(screen.queryByText("the catalog")).not.toBeInTheDocument();
+
+    // the chip in the search bar removes the filter: the catalog is back
+    fireEvent.click(screen.getByTitle("Remove this filter"));
+    expect(await screen.findByText("the catalog")).toBeInTheDocument();
+  });
+
+  it("keeps the catalog when its keywords cannot be loaded", async () => {
+    mockFetch(() => problem(500, "database is locked"));
+    renderPanel();
+    await flush();
+    await flush();
+    expect(screen.getByText("the catalog")).toBeInTheDocument();
+    expect(screen.queryByRole("complementary", { name: "Keywords" })).not.toBeInTheDocument();
+    expect(screen.queryByRole("alert")).not.toBeInTheDocument();
   });
 
   it("shows the problem detail when the search fails", async () => {

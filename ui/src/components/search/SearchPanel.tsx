@@ -1,22 +1,26 @@
 import { useEffect, useState, type ReactNode } from "react";
-import { search } from "../../api/search";
+import { catalogKeywords, search } from "../../api/search";
 import type { SearchAnswer } from "../../api/types";
 import { settle } from "../../hooks/settle";
+import { useApi } from "../../hooks/useApi";
 import { useDebounced } from "../../hooks/useDebounced";
 import { ErrorMessage, Loading } from "../common/Status";
+import { KeywordFacets } from "./KeywordFacets";
 import { SearchResults } from "./SearchResults";
 
 export const SEARCH_DEBOUNCE_MS = 200;
 
-/** Search as you type; while the box and keyword are empty, `children` (the catalog) shows. */
+/** Search as you type; while the box and keyword are empty, `children` (the catalog) shows,
+ * beside the keywords of the whole catalog to filter by. */
 export function SearchPanel({ children }: { children?: ReactNode }) {
   const [text, setText] = useState("");
   const [keyword, setKeyword] = useState<string | null>(null);
   const q = useDebounced(text.trim(), SEARCH_DEBOUNCE_MS);
   const [answer, setAnswer] = useState<SearchAnswer>();
   const [error, setError] = useState<Error>();
-  const [loading, setLoading] = useState(false);
   const active = q !== "" || keyword !== null;
+  // Loaded once: the catalog's keywords, shown before anything is typed.
+  const catalog = useApi((signal) => catalogKeywords(signal), []);
 
   useEffect(() => {
     if (!active) {
@@ -25,19 +29,27 @@ export function SearchPanel({ children }: { children?: ReactNode }) {
       return;
     }
     const controller = new AbortController();
-    setLoading(true);
     settle(search(q, keyword, controller.signal), controller.signal, {
       value: (value) => {
         setAnswer(value);
         setError(undefined);
       },
       error: setError,
-      done: () => setLoading(false),
+      done: () => {},
     });
     return () => controller.abort();
   }, [q, keyword, active]);
 
-  const facets = answer?.facets?.keywords ?? [];
+  const catalogFacets = catalog.data ?? [];
+  // Until the first answer of a search arrives, the catalog's keywords stay in place.
+  const facets = active ? (answer?.facets?.keywords ?? catalogFacets) : catalogFacets;
+
+  let main: ReactNode = children;
+  if (active) {
+    if (error) main = <ErrorMessage error={error} />;
+    else if (answer) main = <SearchResults answer={answer} />;
+    else main = <Loading what="Searching" />;
+  }
 
   return (
     <section>
@@ -56,33 +68,10 @@ export function SearchPanel({ children }: { children?: ReactNode }) {
           </button>
         )}
       </div>
-      {active ? (
-        <div className="search-layout">
-          <div className="search-main">
-            {error ? <ErrorMessage error={error} /> : answer ? <SearchResults answer={answer} /> : loading && <Loading what="Searching" />}
-          </div>
-          {facets.length > 0 && (
-            <aside className="facets" aria-label="Keywords">
-              <h3>Keywords</h3>
-              <ul>
-                {facets.map((facet) => (
-                  <li key={facet.value}>
-                    <button
-                      type="button"
-                      className={facet.value === keyword ? "chip chip-on" : "chip"}
-                      onClick={() => setKeyword(facet.value === keyword ? null : facet.value)}
-                    >
-                      {facet.value} <span className="muted">{facet.count}</span>
-                    </button>
-                  </li>
-                ))}
-              </ul>
-            </aside>
-          )}
-        </div>
-      ) : (
-        children
-      )}
+      <div className="search-layout">
+        <div className="search-main">{main}</div>
+        {facets.length > 0 && <KeywordFacets facets={facets} selected={keyword} onSelect={setKeyword} />}
+      </div>
     </section>
   );
 }

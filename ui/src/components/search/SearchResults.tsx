@@ -1,6 +1,7 @@
 import { Link } from "react-router-dom";
 import type { SearchAnswer } from "../../api/types";
 import { Empty } from "../common/Status";
+import { featureHref } from "../twins/featureAnchor";
 import { Snippet } from "./Snippet";
 
 export function SearchResults({ answer }: { answer: SearchAnswer }) {
@@ -24,7 +25,16 @@ export function SearchResults({ answer }: { answer: SearchAnswer }) {
               {hit.matches.map((match, i) => (
                 <li key={i}>
                   <span className="match-where">
-                    {match.feature ? <>feature <strong>{match.feature}</strong></> : "twin"}
+                    {match.feature ? (
+                      <>
+                        feature{" "}
+                        <Link to={featureHref(hit.slug, match.feature)} className="match-feature">
+                          {match.feature}
+                        </Link>
+                      </>
+                    ) : (
+                      "twin"
+                    )}
                     <span className="badge">{match.privacy}</span>
                   </span>
                   <Snippet snippet={match.snippet} />

@@ -1,6 +1,7 @@
-import { describe, expect, it } from "vitest";
+import { afterEach, describe, expect, it, vi } from "vitest";
 import { fireEvent, render, screen, within } from "@testing-library/react";
-import { FeatureList } from "./FeatureList";
+import { FeatureList, featureElementIds } from "./FeatureList";
+import { featureAnchor, featureHref, hashTarget } from "./featureAnchor";
 import { serviceNameOf } from "../../api/gateway";
 import type { Feature, Service } from "../../api/types";
 
@@ -52,9 +53,55 @@ describe("FeatureList", () => {
     expect(within(monitoring).queryByRole("button", { name: "Try it" })).not.toBeInTheDocument();
   });
 
+  it("gives each card an id, and scrolls to and highlights the one the hash names", () => {
+    const scrollIntoView = vi.fn();
+    Element.prototype.scrollIntoView = scrollIntoView;
+    const list = (hash: string) => <FeatureList slug="ilmatar-k16052" features={features} services={[]} hash={hash} />;
+    const { rerender } = render(list("#feature-manufacturer-monitoring"));
+    const [opc, monitoring] = screen.getAllByRole("listitem");
+    expect(opc).toHaveAttribute("id", "feature-opc-ua-server");
+    expect(opc).not.toHaveClass("feature-target");
+    expect(monitoring).toHaveAttribute("id", "feature-manufacturer-monitoring");
+    expect(monitoring).toHaveClass("feature-target");
+    expect(scrollIntoView).toHaveBeenCalledTimes(1);
+    expect(scrollIntoView.mock.contexts[0]).toBe(monitoring);
+
+    // another hash moves the highlight; one naming no card highlights none
+    rerender(list("#feature-opc-ua-server"));
+    expect(opc).toHaveClass("feature-target");
+    expect(monitoring).not.toHaveClass("feature-target");
+    rerender(list("#history"));
+    expect(document.querySelector(".feature-target")).toBeNull();
+  });
+
   it("has an empty state", () => {
     render(<FeatureList slug="x" features={[]} services={[]} />);
     expect(screen.getByText(/no features/)).toBeInTheDocument();
+  });
+});
+
+afterEach(() => {
+  delete (Element.prototype as { scrollIntoView?: unknown }).scrollIntoView;
+});
+
+describe("featureAnchor", () => {
+  it("is the same on the search link and the card", () => {
+    expect(featureAnchor("CAD store")).toBe("cad-store");
+    expect(featureAnchor("  Käyttö / Historian!! ")).toBe("kaytto-historian");
+    expect(featureAnchor("!!!")).toBe("feature");
+    expect(featureHref("ilmatar k16052", "CAD store")).toBe("/twins/ilmatar%20k16052#feature-cad-store");
+    expect(featureElementIds([{ name: "CAD store" }])).toEqual(["feature-cad-store"]);
+  });
+
+  it("keeps repeated names apart and reads percent-encoded hashes", () => {
+    expect(featureElementIds([{ name: "Data" }, { name: "data" }, { name: "Data" }])).toEqual([
+      "feature-data",
+      "feature-data-2",
+      "feature-data-3",
+    ]);
+    expect(hashTarget("#feature-%E6%95%B0%E6%8D%AE")).toBe("feature-数据");
+    expect(featureAnchor("数据")).toBe("数据");
+    expect(hashTarget("#bad-%E6")).toBe("bad-%E6");
   });
 });
 

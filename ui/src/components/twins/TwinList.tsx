@@ -5,6 +5,15 @@ import { settle } from "../../hooks/settle";
 import type { TwinSummary } from "../../api/types";
 import { Empty, ErrorMessage, Loading, formatTime } from "../common/Status";
 
+/** The catalog's empty state, for the list and the tree alike. */
+export function NoTwinsYet() {
+  return (
+    <Empty>
+      There are no twins you may see yet. Create one with <code>twinlink apply</code> or ask an owner for a role.
+    </Empty>
+  );
+}
+
 /** The twins the user may see, a page at a time (`next_cursor`). */
 export function TwinList() {
   const [items, setItems] = useState<TwinSummary[]>([]);
@@ -31,7 +40,7 @@ export function TwinList() {
   if (error && items.length === 0) return <ErrorMessage error={error} />;
   if (loading && items.length === 0) return <Loading what="Loading twins" />;
   if (items.length === 0) {
-    return <Empty>There are no twins you may see yet. Create one with <code>twinlink apply</code> or ask an owner for a role.</Empty>;
+    return <NoTwinsYet />;
   }
   return (
     <div>

@@ -1,3 +1,4 @@
+import { useLocation } from "react-router-dom";
 import { listServices } from "../../api/gateway";
 import { getRelations } from "../../api/twins";
 import { ErrorMessage } from "../../components/common/Status";
@@ -12,6 +13,9 @@ import { canEdit, useTwin } from "./context";
 
 export function OverviewTab() {
   const { slug, twin } = useTwin();
+  // A search hit links to a feature as /twins/{slug}#feature-{anchor}: that card is scrolled
+  // to and highlighted.
+  const { hash } = useLocation();
   // The rest needs the viewer role; a user who sees only the public part gets 403 or 404 here,
   // which the sections show as their own message.
   const services = useApi((signal) => listServices(slug, signal), [slug]);
@@ -33,7 +37,7 @@ export function OverviewTab() {
 
       <h2>Features</h2>
       {services.error && <p className="muted">Services: {services.error.message}</p>}
-      <FeatureList slug={slug} features={features} services={serviceList} />
+      <FeatureList slug={slug} features={features} services={serviceList} hash={hash} />
       {otherServices.length > 0 && (
         <>
           <h3>Other gateway services</h3>
@@ -41,6 +45,7 @@ export function OverviewTab() {
             slug={slug}
             features={otherServices.map((s) => ({ name: s.name, description: s.description ?? undefined }))}
             services={otherServices}
+            hash={hash}
           />
         </>
       )}
