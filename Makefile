@@ -7,7 +7,7 @@
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
-STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml edge/pyproject.toml | cksum | cut -d" " -f1)
+STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml edge/pyproject.toml constraints.txt | cksum | cut -d" " -f1)
 HOST   ?= 127.0.0.1
 PORT   ?= 8000
 
@@ -21,18 +21,25 @@ UI_SRC   := $(wildcard ui/package.json ui/package-lock.json ui/index.html ui/vit
               ui/tsconfig*.json) $(shell find ui/src ui/public -type f 2>/dev/null)
 endif
 
-.PHONY: demo test unit integration bench lint format clean setup
+.PHONY: demo test unit integration bench lint format clean setup constraints
 
 setup: $(STAMP) $(UI_BUILT)
 
-$(STAMP): pyproject.toml edge/pyproject.toml
+$(STAMP): pyproject.toml edge/pyproject.toml constraints.txt
 	@scripts/ensure-python.sh $(PYTHON)
 	@scripts/ensure-packages.sh gcc libc6-dev   # FMUs are built from C source
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ./edge -e ".[dev]"
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e ./edge -e ".[dev]"
 	@rm -f $(VENV)/.installed-*
 	@touch $@
+
+# After changing dependencies in pyproject.toml: install the newest allowed versions, run
+# make test, then commit the new constraints.txt with the change.
+constraints:
+	$(BIN)/python -m pip install --quiet --upgrade -e ./edge -e ".[dev]"
+	{ sed -n '1,2p' constraints.txt; $(BIN)/python -m pip freeze --exclude-editable; } > constraints.tmp
+	mv constraints.tmp constraints.txt
 
 $(UI_BUILT): $(UI_SRC)
 	@scripts/ensure-node.sh
