@@ -28,6 +28,7 @@ from twinlink.api import (
     system,
     twins,
 )
+from twinlink.api import connectors as connectors_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.auth.devices import DeviceService
@@ -35,6 +36,7 @@ from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.bus import Bus, MemoryBus
 from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
+from twinlink.connectors.service import ConnectorService
 from twinlink.gateway.metrics import GatewayCollector
 from twinlink.gateway.proxy import GatewayApp
 from twinlink.gateway.service import GatewayService
@@ -76,6 +78,7 @@ class Services:
     processors: ProcessorService
     fmus: FmuService
     gateway: GatewayService
+    connectors: ConnectorService
 
 
 def build_services(settings: Settings) -> Services:
@@ -89,19 +92,17 @@ def build_services(settings: Settings) -> Services:
     ingest = IngestService(registry, history, bus)
     commands = CommandService(registry, history, hub, settings.command_timeout_s)
     secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
+    vault = Vault.open(settings.data_dir, secret_key)
     gateway = GatewayService(
-        store,
-        registry,
-        Vault.open(settings.data_dir, secret_key),
-        settings.gateway_default_twin,
-        settings.gateway_audit_days,
+        store, registry, vault, settings.gateway_default_twin, settings.gateway_audit_days
     )
+    devices = DeviceService(store, registry)
     return Services(
         store=store,
         auth=AuthService(store, settings.session_ttl_s),
         registry=registry,
         search=SearchService(store),
-        devices=DeviceService(store, registry),
+        devices=devices,
         bus=bus,
         history=history,
         ingest=ingest,
@@ -125,6 +126,7 @@ def build_services(settings: Settings) -> Services:
             store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders
         ),
         gateway=gateway,
+        connectors=ConnectorService(store, registry, devices, hub, ingest, vault),
     )
 
 
@@ -149,6 +151,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
     services.history_maintenance.start()
     await services.processors.open()
     await services.gateway.open()
+    await services.connectors.open()
     return await services.auth.bootstrap(
         settings.admin_token.get_secret_value() if settings.admin_token else None,
         settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -157,6 +160,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    await services.connectors.close()
     await services.gateway.close()
     await services.processors.close()
     services.live.close()
@@ -221,7 +225,7 @@ def create_app(
     app.state.metrics = metrics
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors, gateway_api)
+    routers_more = (processors, gateway_api, connectors_api)
     for module in (*routers, *routers_more, search, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)

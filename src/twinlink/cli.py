@@ -113,7 +113,8 @@ def _document_files(paths: tuple[str, ...]) -> list[Path]:
 )
 @click.pass_context
 def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
-    """Create or update twins from DT documents (idempotent, like kubectl apply)."""
+    """Create or update twins from DT documents, and connectors from connector files
+    (`twin:` and `connectors:` at the top); idempotent, like kubectl apply."""
     client = client_for(ctx)
     failed = False
     sources: list[tuple[str, bytes]] = []
@@ -127,6 +128,15 @@ def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
             raise click.ClickException(f"cannot read {f}: {err.strerror}") from err
     for name, body in sources:
         kind = "application/json" if name.endswith(".json") else "application/yaml"
+        connector_docs = connector_file(body.decode("utf-8", "replace"))
+        if connector_docs is not None:
+            try:
+                for line in apply_connectors(client, connector_docs):
+                    click.echo(line)
+            except ClientError as err:
+                click.echo(f"{name}: {err}", err=True)
+                failed = True
+            continue
         try:
             answer = client.json(
                 "POST", "/api/v1/apply", content=body, headers={"Content-Type": kind}
@@ -191,8 +201,10 @@ main.add_command(blueprints)
 main.add_command(processors)
 main.add_command(fmus)
 
+from twinlink.cli_connectors import apply_connectors, connector_file, connectors  # noqa: E402
 from twinlink.cli_gateway import audit, service_accounts, services  # noqa: E402
 
 main.add_command(services)
 main.add_command(audit)
 main.add_command(service_accounts)
+main.add_command(connectors)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 import secrets
+from collections.abc import Awaitable, Callable
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.secrets import hash_token, token_prefix
@@ -31,6 +32,8 @@ class DeviceService:
     def __init__(self, store: MetadataStore, registry: RegistryService) -> None:
         self.store = store
         self.registry = registry
+        # Called with each deleted device, so what speaks for it (a connector) stops.
+        self.deleted_listeners: list[Callable[[Device], Awaitable[None]]] = []
 
     async def _twin(self, principal: Principal, slug: str, needed: str) -> TwinRecord:
         twin, role = await self.registry.require_twin(principal, slug)
@@ -86,6 +89,8 @@ class DeviceService:
             await self.store.delete_device(device.id)
         finally:
             self.registry.changed()
+        for listener in self.deleted_listeners:
+            await listener(device)
 
     async def authenticate(self, token: str) -> Device:
         device = await self.store.find_device(hash_token(token))

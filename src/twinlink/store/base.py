@@ -11,6 +11,7 @@ from typing import Any, Protocol
 from twinlink.store.records import (
     ApiToken,
     AuditEntry,
+    ConnectorRecord,
     Device,
     Edge,
     FmuRecord,
@@ -117,6 +118,30 @@ class MetadataStore(Protocol):
         offset: int,
         facet_limit: int = 25,
     ) -> SearchResult: ...
+
+    # connectors
+    async def create_connector(
+        self,
+        twin_id: int,
+        device_id: int,
+        name: str,
+        kind: str,
+        settings: dict[str, Any],
+        secret: bytes | None,
+        enabled: bool,
+        created_by: int | None,
+        now_ns: int,
+    ) -> ConnectorRecord: ...
+    async def update_connector(
+        self,
+        connector_id: int,
+        settings: dict[str, Any],
+        secret: bytes | None,
+        enabled: bool,
+        now_ns: int,
+    ) -> None: ...
+    async def delete_connector(self, connector_id: int) -> None: ...
+    async def list_connectors(self, twin_id: int | None = None) -> list[ConnectorRecord]: ...
 
     # processors and FMUs
     async def create_processor(

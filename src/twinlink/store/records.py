@@ -129,6 +129,26 @@ class ProcessorRecord:
 
 
 @dataclass(slots=True)
+class ConnectorRecord:
+    """A connector as stored: its kind, the device it speaks for, its settings (secrets apart,
+    sealed) and whether it should run."""
+
+    id: int
+    twin_id: int
+    twin_slug: str
+    device_id: int
+    device: str
+    name: str
+    kind: str
+    settings: dict[str, Any]
+    secret: bytes | None
+    enabled: bool
+    created_by: int | None
+    created_ns: int
+    modified_ns: int
+
+
+@dataclass(slots=True)
 class ProcessorEvent:
     id: int
     processor_id: int

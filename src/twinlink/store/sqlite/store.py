@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from twinlink.store.sqlite.connectors import ConnectorTables
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.devices import DeviceTables
 from twinlink.store.sqlite.gateway import GatewayTables
@@ -14,10 +15,16 @@ from twinlink.store.sqlite.users import UserTables
 
 
 class SqliteStore(
-    UserTables, TwinTables, SearchTables, DeviceTables, ProcessorTables, GatewayTables
+    UserTables,
+    TwinTables,
+    SearchTables,
+    DeviceTables,
+    ProcessorTables,
+    GatewayTables,
+    ConnectorTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
-    processors and FMUs."""
+    processors and FMUs, gateway services and connectors."""
 
     FILE_NAME = "twinlink.sqlite3"
 
