@@ -36,6 +36,7 @@ from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.bus import Bus, MemoryBus
 from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
+from twinlink.connectors.metrics import ConnectorCollector
 from twinlink.connectors.service import ConnectorService
 from twinlink.gateway.metrics import GatewayCollector
 from twinlink.gateway.proxy import GatewayApp
@@ -181,6 +182,7 @@ def create_app(
     metrics = Metrics()
     metrics.registry.register(DataPlaneCollector(lambda: data_plane_figures(services)))
     metrics.registry.register(ProcessorCollector(services.processors))
+    metrics.registry.register(ConnectorCollector(services.connectors))
     metrics.registry.register(GatewayCollector(services.gateway))
 
     @asynccontextmanager

@@ -110,8 +110,14 @@ def test_a_udp_connector_feeds_its_own_device(server: Server) -> None:
     assert view["status"]["last_message_ns"] is not None
     with server.admin as admin:
         listed = admin.get(f"/api/v1/twins/{slug}/devices").json()["devices"]
+        metrics = admin.get("/metrics").text
     devices = {d["name"]: d for d in listed}
     assert devices["logger"]["connected"] is True
+    labels = 'connector="logger",kind="udp"'  # the exposition sorts labels by name
+    assert f'twinlink_connector_state{{{labels},state="listening",twin="{slug}"}} 1.0' in metrics
+    prefix = f'twinlink_connector_samples_total{{{labels},twin="{slug}"}}'
+    samples = [ln for ln in metrics.splitlines() if ln.startswith(prefix)]
+    assert samples and float(samples[0].rsplit(" ", 1)[1]) >= 1
 
 
 def test_changes_restart_it_and_a_bad_change_changes_nothing(server: Server) -> None:
