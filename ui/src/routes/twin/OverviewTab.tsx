@@ -2,6 +2,7 @@ import { useLocation } from "react-router-dom";
 import { listServices } from "../../api/gateway";
 import { getRelations } from "../../api/twins";
 import { ErrorMessage } from "../../components/common/Status";
+import { ConnectorsSection } from "../../components/connectors/ConnectorsSection";
 import { DevicesSection } from "../../components/devices/DevicesSection";
 import { RolesSection } from "../../components/roles/RolesSection";
 import { DocumentDetails } from "../../components/twins/DocumentDetails";
@@ -61,6 +62,7 @@ export function OverviewTab() {
       )}
 
       <DevicesSection slug={slug} canEdit={canEdit(twin)} />
+      <ConnectorsSection slug={slug} canManage={twin.role === "admin"} />
       <RolesSection slug={slug} role={twin.role} />
 
       {serviceList.length > 0 && (
