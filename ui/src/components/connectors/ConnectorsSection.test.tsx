@@ -19,7 +19,7 @@ describe("ConnectorsSection", () => {
   it("shows each connector's state, address, figures and last error", async () => {
     mockFetch(() => jsonResponse({ connectors: [catman] }));
     render(<ConnectorsSection slug="tingen" canManage={false} />);
-    const [row] = (await screen.findAllByRole("row")).filter((r) => r.textContent?.includes("catman"));
+    const row = (await screen.findAllByRole("row")).find((r) => r.textContent?.includes("catman"))!;
     expect(within(row).getByText("listening")).toHaveClass("badge-ok");
     expect(row).toHaveTextContent("127.0.0.1:7001");
     expect(row).toHaveTextContent("2,400");
@@ -29,7 +29,7 @@ describe("ConnectorsSection", () => {
 
   it("lets an admin stop a connector and shows it disabled after", async () => {
     let enabled = true;
-    const fetch = mockFetch((url, init) => {
+    const fetch = mockFetch((_url, init) => {
       if (init?.method === "POST") {
         enabled = false;
         return jsonResponse({ ...catman, enabled: false, status: { ...status, state: "stopped" } });
