@@ -55,6 +55,9 @@ def setup_logging(level: str, fmt: str) -> None:
     formatter.converter = time.gmtime
     handler.setFormatter(formatter)
     handler.addFilter(RedactTokens())
+    # asyncua logs a traceback at ERROR each time a server it is connected to goes away;
+    # the OPC UA connector's status already says so, with the reason, and it reconnects.
+    logging.getLogger("asyncua.client.ua_session").setLevel(logging.CRITICAL)
     for name in ("twinlink", "uvicorn", "uvicorn.error", "uvicorn.access"):
         logger = logging.getLogger(name)
         logger.handlers[:] = [handler] if name in ("twinlink", "uvicorn") else []

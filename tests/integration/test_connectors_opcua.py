@@ -1,0 +1,131 @@
+"""An OPC UA connector made through the API of a real server, against the simulated crane's
+real asyncua server (with a user and password) running in a thread of the test: its secret is
+never shown or logged, its values reach the twin, a twin command writes a node."""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+import time
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import pytest
+
+from tests.conftest import Server, free_port
+from tests.integration._fixtures import no_server_errors as no_server_errors
+from tests.integration._util import apply, assert_problem, twin_doc, unique
+from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
+from twinlink.crane.plant import CranePlant
+
+PASSWORD = "crane-op-7f3a9c"
+NS = "ns=2;s=Ilmatar"
+WAIT_S = 20.0
+
+
+class Crane:
+    def __init__(self) -> None:
+        self.plant = CranePlant()
+        self.server = CraneOpcUaServer(self.plant, OpcUaAccess(users={"operator": PASSWORD}))
+        self.loop = asyncio.new_event_loop()
+        self.thread = threading.Thread(target=self.loop.run_forever, daemon=True)
+        self.url = ""
+
+    def __enter__(self) -> Crane:
+        self.thread.start()
+        port = free_port()
+        self.run(self.server.start("127.0.0.1", port))
+        self.url = f"opc.tcp://127.0.0.1:{port}"
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.run(self.server.stop())
+        self.loop.call_soon_threadsafe(self.loop.stop)
+        self.thread.join(10)
+        self.loop.close()
+
+    def run(self, coro: Any) -> Any:
+        return asyncio.run_coroutine_threadsafe(coro, self.loop).result(30)
+
+
+@pytest.fixture(scope="module")
+def crane() -> Iterator[Crane]:
+    with Crane() as c:
+        yield c
+
+
+def _until(check: Callable[[], Any], what: str) -> Any:
+    deadline = time.monotonic() + WAIT_S
+    while time.monotonic() < deadline:
+        value = check()
+        if value:
+            return value
+        time.sleep(0.05)  # polling the real state, not waiting for it to happen
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def _config(crane: Crane, **extra: Any) -> dict[str, Any]:
+    return {
+        "url": crane.url,
+        "username": "operator",
+        "password": PASSWORD,
+        "reconnect_initial_s": 0.1,
+        "reconnect_max_s": 0.5,
+        "signals": [
+            {"node": f"{NS}.Bridge.Position", "signal": "bridge_position"},
+            {"node": f"{NS}.Hook.Load", "signal": "load"},
+        ],
+        "commands": {"set_bridge_speed": {"node": f"{NS}.Bridge.SpeedSetpoint"}},
+        **extra,
+    }
+
+
+def test_an_opcua_connector_made_by_api(server: Server, crane: Crane) -> None:
+    slug = unique("plc")
+    with server.admin as admin:
+        apply(admin, twin_doc(f"urn:{slug}", name="Crane", slug=slug))
+        r = admin.post(
+            f"/api/v1/twins/{slug}/connectors",
+            json={"name": "plc", "kind": "opcua", "config": _config(crane)},
+        )
+        assert r.status_code == 201, r.text
+        assert PASSWORD not in r.text
+        assert r.json()["config"]["password_set"] is True and "password" not in r.json()["config"]
+
+        def connected() -> dict[str, Any] | None:
+            view = admin.get(f"/api/v1/twins/{slug}/connectors/plc").json()
+            return view if view["status"]["state"] == "connected" else None
+
+        _until(connected, "the connector to connect")
+
+        def stored() -> bool:
+            streams = admin.get(f"/api/v1/twins/{slug}/streams").json()["streams"]
+            return any(s["count"] > 0 for s in streams)
+
+        _until(stored, "the crane's values in the twin's history")
+        r = admin.post(
+            f"/api/v1/twins/{slug}/commands",
+            json={"name": "set_bridge_speed", "args": {"value": 0.25}, "device": "plc"},
+        )
+        assert r.status_code == 200, r.text
+        assert r.json()["state"] == "succeeded", r.json()
+        assert crane.plant.bridge.setpoint == pytest.approx(0.25)
+
+        # A change of another setting keeps the password; a wrong one shows in the status.
+        r = admin.patch(f"/api/v1/twins/{slug}/connectors/plc", json={"config": {"stream": "plc"}})
+        assert r.status_code == 200 and r.json()["config"]["password_set"] is True
+        _until(connected, "the connector to connect again with the kept password")
+        r = admin.patch(
+            f"/api/v1/twins/{slug}/connectors/plc", json={"config": {"password": "wrong-one"}}
+        )
+        assert r.status_code == 200, r.text
+
+        def refused() -> str | None:
+            status = admin.get(f"/api/v1/twins/{slug}/connectors/plc").json()["status"]
+            return status["last_error"] if status["state"] == "error" else None
+
+        assert "password" in _until(refused, "the wrong password to be reported")
+        r = admin.post(f"/api/v1/twins/{slug}/connectors", json={
+            "name": "bad", "kind": "opcua", "config": {"url": "http://not-opc"}})  # fmt: skip
+        assert "url" in assert_problem(r, 422)["detail"]
+    assert PASSWORD not in server.log() and "wrong-one" not in server.log()
