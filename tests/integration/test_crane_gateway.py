@@ -17,6 +17,7 @@ from tests.conftest import EXAMPLES, Server
 from tests.integration._util import YAML_HEADERS
 from twinlink.crane import Crane, CranePorts, CraneSettings, start_crane
 from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
+from twinlink.demo_crane import plc_connector
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 
@@ -136,3 +137,26 @@ async def test_sensors_through_oauth2_and_the_audit_log(
         for e in audit["entries"]
     )
     assert not re.search(crane.credentials.sensors_client_secret, str(audit))
+
+
+async def test_the_demos_opc_ua_connector_feeds_the_crane_twin(
+    gateway: httpx.AsyncClient, crane: Crane
+) -> None:
+    r = await gateway.post(f"/api/v1/twins/{SLUG}/connectors", json=plc_connector(crane.opcua.url))
+    assert r.status_code == 201, r.text
+    try:
+        deadline = asyncio.get_running_loop().time() + 20
+        signals: set[str] = set()
+        while not {"bridge_position", "load"} <= signals:
+            assert asyncio.get_running_loop().time() < deadline, signals
+            streams = (await gateway.get(f"/api/v1/twins/{SLUG}/streams")).json()["streams"]
+            signals = {s["name"] for st in streams for s in st["signals"]}
+            await asyncio.sleep(0.05)  # polling the real state
+        r = await gateway.post(
+            f"/api/v1/twins/{SLUG}/commands",
+            json={"name": "set_hoist_speed", "args": {"value": -0.05}, "device": "plc"},
+        )
+        assert r.status_code == 200 and r.json()["state"] == "succeeded", r.text
+        assert crane.plant.hoist.setpoint == pytest.approx(-0.05)
+    finally:
+        await gateway.delete(f"/api/v1/twins/{SLUG}/connectors/plc")
