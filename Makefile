@@ -74,6 +74,7 @@ bench: $(STAMP) $(UI_BUILT)
 	$(BIN)/python bench/live.py
 	$(BIN)/python bench/processors.py
 	$(BIN)/python bench/gateway.py
+	$(BIN)/python bench/udp.py
 ifneq ($(UI_BUILT),)
 	$(BIN)/python bench/ui_chart.py
 endif
