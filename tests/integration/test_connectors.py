@@ -246,3 +246,20 @@ def test_twinlink_apply_creates_then_changes_connectors(server: Server, tmp_path
     assert f"connector/{slug}/udp-in updated" in run("b")
     view = _get(server, slug, "udp-in")
     assert view["config"]["stream"] == "b" and view["status"]["state"] == "listening"
+
+
+def test_deleting_its_device_or_twin_stops_it(server: Server) -> None:
+    slug = _twin(server)
+    first = _port(_create(server, slug, name="a", kind="udp", config={"port": 0, "format": "json"}))
+    second = _port(
+        _create(server, slug, name="b", kind="udp", config={"port": 0, "format": "json"})
+    )
+    with server.admin as admin:
+        assert admin.delete(f"/api/v1/twins/{slug}/devices/a").status_code in (200, 204)
+        names = [
+            c["name"] for c in admin.get(f"/api/v1/twins/{slug}/connectors").json()["connectors"]
+        ]
+        assert names == ["b"]
+        assert _port_is_free(first)
+        assert admin.delete(f"/api/v1/twins/{slug}").status_code in (200, 204)
+    _until(lambda: _port_is_free(second), "the deleted twin's connector to stop")
