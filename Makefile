@@ -27,7 +27,7 @@ setup: $(STAMP) $(UI_BUILT)
 
 $(STAMP): pyproject.toml edge/pyproject.toml constraints.txt
 	@scripts/ensure-python.sh $(PYTHON)
-	@scripts/ensure-packages.sh gcc libc6-dev   # FMUs are built from C source
+	@scripts/ensure-packages.sh gcc g++ libc6-dev   # FMUs are built from C source; the ESP32 example's host test is C++
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e ./edge -e ".[dev]"
@@ -54,7 +54,9 @@ demo: $(STAMP) $(UI_BUILT)
 	$(BIN)/twinlink demo --host $(HOST) --port $(PORT)
 
 test: $(STAMP) $(UI_BUILT)
-	@scripts/ensure-packages.sh chromium   # the web app's end-to-end test drives it
+	@# chromium: the web app's end-to-end test drives it; mosquitto: the MQTT tests' broker
+	@# and clients (external mode, mosquitto_pub/sub against the embedded listener)
+	@scripts/ensure-packages.sh chromium mosquitto mosquitto-clients
 	$(BIN)/python -m pytest tests
 ifneq ($(UI_BUILT),)
 	cd ui && { test -d node_modules || npm install --no-audit --no-fund; } && npm run typecheck && npm test

@@ -74,6 +74,7 @@ class Twinlink:
             "TWINLINK_ADMIN_TOKEN": self.admin_token,
             "TWINLINK_ADMIN_PASSWORD": self.admin_password,
             "TWINLINK_LOG_LEVEL": "warning",
+            "TWINLINK_MQTT_PORT": "0",
         }
         env.pop("TWINLINK_CONFIG", None)
         self.output.clear()

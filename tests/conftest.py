@@ -65,6 +65,7 @@ def start_server(
         "TWINLINK_ADMIN_TOKEN": token,
         "TWINLINK_ADMIN_PASSWORD": password,
         "TWINLINK_LOG_LEVEL": "warning",
+        "TWINLINK_MQTT_PORT": "0",  # servers of tests run side by side: any free port
         **(extra_env or {}),
     }
     proc = subprocess.Popen(

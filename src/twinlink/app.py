@@ -31,6 +31,7 @@ from twinlink.api import (
 from twinlink.api import connectors as connectors_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
+from twinlink.api import mqtt as mqtt_api
 from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.bus import Bus, MemoryBus
@@ -44,6 +45,8 @@ from twinlink.gateway.service import GatewayService
 from twinlink.gateway.vault import Vault
 from twinlink.history.maintenance import HistoryMaintenance
 from twinlink.history.service import HistoryService
+from twinlink.ingest.mqtt import MqttService
+from twinlink.ingest.mqtt.metrics import MqttCollector
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.live import LiveHub
@@ -80,6 +83,7 @@ class Services:
     fmus: FmuService
     gateway: GatewayService
     connectors: ConnectorService
+    mqtt: MqttService
 
 
 def build_services(settings: Settings) -> Services:
@@ -128,6 +132,7 @@ def build_services(settings: Settings) -> Services:
         ),
         gateway=gateway,
         connectors=ConnectorService(store, registry, devices, hub, ingest, vault),
+        mqtt=MqttService(settings, devices, hub, ingest),
     )
 
 
@@ -153,6 +158,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
     await services.processors.open()
     await services.gateway.open()
     await services.connectors.open()
+    await services.mqtt.open()
     return await services.auth.bootstrap(
         settings.admin_token.get_secret_value() if settings.admin_token else None,
         settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -161,6 +167,7 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    await services.mqtt.close()  # waits for batches in flight and sends their PUBACKs
     await services.connectors.close()
     await services.gateway.close()
     await services.processors.close()
@@ -183,6 +190,7 @@ def create_app(
     metrics.registry.register(DataPlaneCollector(lambda: data_plane_figures(services)))
     metrics.registry.register(ProcessorCollector(services.processors))
     metrics.registry.register(ConnectorCollector(services.connectors))
+    metrics.registry.register(MqttCollector(services.mqtt))
     metrics.registry.register(GatewayCollector(services.gateway))
 
     @asynccontextmanager
@@ -227,7 +235,7 @@ def create_app(
     app.state.metrics = metrics
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors, gateway_api, connectors_api)
+    routers_more = (processors, gateway_api, connectors_api, mqtt_api)
     for module in (*routers, *routers_more, search, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)

@@ -73,11 +73,17 @@ def demo(
     examples: Path,
 ) -> None:
     """Run the server with the example twins loaded (data in ./.twinlink-demo)."""
-    from twinlink.server import print_bootstrap, serve
+    from twinlink.server import mqtt_port_free, print_bootstrap, serve
 
     settings = load_settings(config_file, host=host, port=port, data_dir=data_dir)
     if "data_dir" not in settings.model_fields_set:
         settings.data_dir = Path(".twinlink-demo")  # unless a flag, variable or file says
+    if (
+        settings.mqtt_mode == "embedded"
+        and "mqtt_port" not in settings.model_fields_set
+        and not mqtt_port_free(settings)
+    ):
+        settings.mqtt_port = 0  # a broker already has 1883: the demo takes any free port
 
     secrets_file = settings.data_dir / "admin-credentials.txt"
 
@@ -101,6 +107,12 @@ def demo(
         fmu_note = await start_demo_fmu(services, examples)
         crane_note, stop_crane = await start_demo_crane(services)
         live = "  Tingen streams live from a simulated rig (device tingenSAP).\n"
+        mqtt_port = services.mqtt.port
+        if mqtt_port is not None:
+            live += (
+                f"  Devices may publish over MQTT to {settings.mqtt_host}:{mqtt_port}, "
+                f"topics twinlink/{{twin}}/{{device}}/telemetry (docs/mqtt.md).\n"
+            )
         if fmu_note:
             live += f"  {fmu_note}\n"
         if crane_note:

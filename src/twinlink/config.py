@@ -122,6 +122,35 @@ class Settings(BaseSettings):
     gateway_audit_days: float = Field(
         30, ge=0, description="Keep the gateway's audit log this many days; 0 keeps it all."
     )
+    mqtt_mode: Literal["embedded", "external", "off"] = Field(
+        "embedded",
+        description="MQTT for devices: embedded (the server listens itself), external (it "
+        "subscribes to a broker you run) or off.",
+    )
+    mqtt_host: str = Field("127.0.0.1", description="Address the embedded MQTT listener binds to.")
+    mqtt_port: int = Field(
+        1883, ge=0, le=65535, description="TCP port of the embedded MQTT listener (0 = any free)."
+    )
+    mqtt_topic_prefix: str = Field(
+        "twinlink",
+        pattern=r"^[^#+/\x00][^#+\x00]*[^#+/\x00]$|^[^#+/\x00]$",
+        description="First level(s) of every MQTT topic: {prefix}/{twin}/{device}/...",
+    )
+    mqtt_broker_url: str = Field(
+        "mqtt://127.0.0.1:1883",
+        pattern=r"^mqtts?://[^/]+$",
+        description="External mode: the broker, mqtt://host:port or mqtts://host:port (TLS).",
+    )
+    mqtt_username: str | None = Field(None, description="External mode: the platform's user name.")
+    mqtt_password: SecretStr | None = Field(
+        None, description="External mode: the platform's password."
+    )
+    mqtt_client_id: str = Field(
+        "twinlink",
+        min_length=1,
+        max_length=128,
+        description="External mode: the platform's client id (its session at the broker).",
+    )
     ui_dir: Path | None = Field(
         None,
         description="Folder of the built web app served at /app/ "

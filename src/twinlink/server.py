@@ -28,6 +28,18 @@ def print_bootstrap(created: Bootstrap) -> None:
     print("\n".join(lines), file=sys.stderr, flush=True)
 
 
+def mqtt_port_free(settings: Settings) -> bool:
+    """Whether the embedded MQTT listener's port can be bound now."""
+    family = socket.AF_INET6 if ":" in settings.mqtt_host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            probe.bind((settings.mqtt_host, settings.mqtt_port))
+        except OSError:
+            return False
+    return True
+
+
 def serve(
     settings: Settings,
     on_ready: Callable[[Services], object] | None = None,
@@ -47,6 +59,13 @@ def serve(
         raise ConfigError(
             f"cannot listen on {settings.host}:{settings.port}: {err.strerror}"
         ) from None
+    if settings.mqtt_mode == "embedded" and settings.mqtt_port and not mqtt_port_free(settings):
+        sock.close()
+        raise ConfigError(
+            f"cannot listen for MQTT on {settings.mqtt_host}:{settings.mqtt_port}: the port is "
+            "in use (another broker?); set TWINLINK_MQTT_PORT (0 = any free port), or "
+            "TWINLINK_MQTT_MODE=external to use that broker, or off"
+        )
     # Listen before startup so a client that saw "serving at" is queued, never refused.
     sock.listen(2048)
     if settings.port == 0:

@@ -121,7 +121,7 @@ class Platform:
 async def running_platform(data_dir: Path) -> AsyncIterator[Platform]:
     """The platform's services in-process, with a twin and its device `plc`; every sample
     batch published on the bus for the twin is collected in `batches`."""
-    settings = Settings(data_dir=data_dir, log_level="warning")
+    settings = Settings(data_dir=data_dir, log_level="warning", mqtt_mode="off")
     services = build_services(settings)
     await start_services(services, settings)
     try:

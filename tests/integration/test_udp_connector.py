@@ -79,7 +79,7 @@ async def until(condition: Callable[[], bool]) -> None:
 
 @pytest.fixture
 async def platform(tmp_path: Path) -> AsyncIterator[Platform]:
-    settings = Settings(data_dir=tmp_path / "data", history_sync="normal")
+    settings = Settings(data_dir=tmp_path / "data", history_sync="normal", mqtt_mode="off")
     services = build_services(settings)
     await start_services(services, settings)
     try:
