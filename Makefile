@@ -71,12 +71,13 @@ integration: $(STAMP)
 	$(BIN)/python -m pytest tests/integration
 
 bench: $(STAMP) $(UI_BUILT)
-	@scripts/ensure-packages.sh nginx-light wrk chromium
+	@scripts/ensure-packages.sh nginx-light wrk chromium mosquitto
 	$(BIN)/python bench/api.py
 	$(BIN)/python bench/live.py
 	$(BIN)/python bench/processors.py
 	$(BIN)/python bench/gateway.py
 	$(BIN)/python bench/udp.py
+	$(BIN)/python bench/mqtt.py
 ifneq ($(UI_BUILT),)
 	$(BIN)/python bench/ui_chart.py
 endif
