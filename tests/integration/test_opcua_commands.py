@@ -4,12 +4,9 @@ type) and method calls (arguments in order), and the reasons a command fails."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
-from pathlib import Path
 from typing import Any
 
 import pytest
-import pytest_asyncio
 from asyncua.client.client import Client
 
 from tests.integration._opcua import (
@@ -17,37 +14,16 @@ from tests.integration._opcua import (
     Platform,
     connected,
     crane_config,
-    crane_server,
     running,
-    running_platform,
-    standing_still,
 )
+from tests.integration._opcua import crane as crane
+from tests.integration._opcua import crane_module as crane_module
+from tests.integration._opcua import plant as plant
+from tests.integration._opcua import platform as platform
 from twinlink.crane.opcua import CraneOpcUaServer
 from twinlink.crane.plant import AXES, CranePlant
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
-
-
-@pytest_asyncio.fixture(loop_scope="module")
-async def platform(tmp_path: Path) -> AsyncIterator[Platform]:
-    async with running_platform(tmp_path) as platform:
-        yield platform
-
-
-@pytest.fixture(scope="module")
-def plant() -> CranePlant:
-    return CranePlant()
-
-
-@pytest_asyncio.fixture(loop_scope="module", scope="module")
-async def crane_module(plant: CranePlant) -> AsyncIterator[CraneOpcUaServer]:
-    async with crane_server(plant) as server:
-        yield server
-
-
-@pytest_asyncio.fixture(loop_scope="module")
-async def crane(crane_module: CraneOpcUaServer, plant: CranePlant) -> CraneOpcUaServer:
-    return await standing_still(crane_module, plant)
 
 
 async def read_node(url: str, node_id: str) -> Any:
