@@ -3,8 +3,12 @@ run it): the status route and /metrics, and a device publishing with mosquitto_p
 
 from __future__ import annotations
 
+import os
+import socket
 import subprocess
+import sys
 import time
+from pathlib import Path
 
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors
@@ -44,3 +48,19 @@ def test_a_device_publishes_to_the_servers_embedded_listener(server: Server) -> 
     viewer = make_user(server, unique("v"))
     with server.client(viewer) as c:
         assert_problem(c.get("/api/v1/mqtt"), 403)
+
+
+def test_up_refuses_a_taken_mqtt_port_and_names_the_setting(tmp_path: Path) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        env = {**os.environ, "TWINLINK_MQTT_PORT": str(port)}
+        done = subprocess.run(
+            [sys.executable, "-m", "twinlink", "up", "--port", "0", "--data-dir",
+             str(tmp_path / "data")],
+            env=env, capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+    assert done.returncode != 0
+    assert f"cannot listen for MQTT on 127.0.0.1:{port}" in done.stderr
+    assert "TWINLINK_MQTT_PORT" in done.stderr and "Traceback" not in done.stderr
