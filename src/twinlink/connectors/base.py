@@ -58,10 +58,10 @@ class ConnectorStatus:
             self.state = state
             self.since_ns = time.time_ns()
 
-    def message(self, samples: int) -> None:
+    def received(self, at_ns: int) -> None:
+        """One message (a datagram, a notification) taken in at `at_ns`."""
         self.messages += 1
-        self.samples += samples
-        self.last_message_ns = time.time_ns()
+        self.last_message_ns = at_ns
 
     def error(self, kind: str, text: str) -> None:
         """Count an error of `kind` (a short name: malformed, truncated, refused_sender,...)
@@ -211,12 +211,13 @@ class Connector(ABC):
 
     async def send_samples(self, samples: list[dict[str, Any]], stream: str) -> None:
         """Hand one batch of samples (`{"time": ns, "values": {...}}`) to the platform;
-        its ack arrives at the transport once the batch is durable."""
+        its ack arrives at the transport once the batch is durable. Messages are counted
+        where they arrive (`status.received`): a batch gathers many of them."""
         link = await self.open_link()
-        self.status.message(len(samples))
         await link.dispatch(
             {"type": "samples", "seq": self.seq.next(), "stream": stream, "samples": samples}
         )
+        self.status.samples += len(samples)
 
     async def answer(self, command_id: str, result: Any = None, error: str | None = None) -> None:
         """Report a command's outcome, as a device would."""

@@ -233,8 +233,7 @@ class OpcUaConnector(Connector):
             return
         arrival = time.time_ns()
         status = self.status
-        status.messages += 1  # `messages` counts notifications (docs/connectors.md)
-        status.last_message_ns = arrival
+        status.received(arrival)  # `messages` counts notifications (docs/connectors.md)
         reading = read_data_value(item.Value, arrival)
         if reading.error_kind:
             status.error(reading.error_kind, f"{signal}: {reading.error}")
@@ -253,12 +252,7 @@ class OpcUaConnector(Connector):
         samples = batcher.take()
         if not samples:
             return
-        # As Connector.send_samples, but `messages` already counts the notifications.
-        link = await self.open_link()
-        self.status.samples += len(samples)
-        batch = {"type": "samples", "seq": self.seq.next(), "stream": self.settings.stream,
-                 "samples": samples}  # fmt: skip
-        await link.dispatch(batch)
+        await self.send_samples(samples, self.settings.stream)
 
     # -- commands -------------------------------------------------------------------------
 

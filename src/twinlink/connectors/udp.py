@@ -225,8 +225,7 @@ class UdpConnector(Connector):
             log.exception("decoding a datagram failed", extra={"event": "udp_decode_failed"})
             status.error("decode_failed", f"{type(err).__name__}: {err} (from {sender})")
             return
-        status.messages += 1
-        status.last_message_ns = arrival_ns
+        status.received(arrival_ns)
         if samples:
             pending += samples
             if not self._wake.is_set():
@@ -243,20 +242,8 @@ class UdpConnector(Connector):
             await self._send(pending[start : start + size])
 
     async def _send(self, samples: list[Sample]) -> None:
-        # Not `send_samples`: that counts a message per batch, and here a message is a
-        # datagram (counted as it arrives).
         try:
-            link = await self.open_link()
-            await link.dispatch(
-                {
-                    "type": "samples",
-                    "seq": self.seq.next(),
-                    "stream": self.settings.stream,
-                    "samples": samples,
-                }
-            )
+            await self.send_samples(samples, self.settings.stream)
         except Exception as err:  # the next batch may well go through: keep listening
             log.exception("handing a batch over failed", extra={"event": "udp_send_failed"})
             self.status.error("send_failed", f"{len(samples)} samples lost: {err}")
-            return
-        self.status.samples += len(samples)
