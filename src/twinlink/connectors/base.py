@@ -13,23 +13,20 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import time
 from abc import ABC, abstractmethod
-from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
 import orjson
 from pydantic import BaseModel
 
+from twinlink.ingest.health import Health
 from twinlink.ingest.link import DeviceLink, ServerSeq, connect_device, disconnect_device
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.store.records import Device
 
 log = logging.getLogger("twinlink.connectors")
-
-MAX_ERROR_TEXT = 500
 
 
 class ConnectorError(Exception):
@@ -38,51 +35,29 @@ class ConnectorError(Exception):
 
 
 @dataclass(slots=True)
-class ConnectorStatus:
+class ConnectorStatus(Health):
     """What `twinlink connectors ls` and the API show. `state` is one of: stopped, starting,
     listening (a server side waiting for peers), connected, reconnecting, error."""
 
-    state: str = "stopped"
-    since_ns: int = field(default_factory=time.time_ns)
     last_message_ns: int | None = None
     messages: int = 0
     samples: int = 0
     rejected: int = 0
     commands: int = 0
-    errors: Counter[str] = field(default_factory=Counter)
-    last_error: str | None = None
-    last_error_ns: int | None = None
-
-    def set_state(self, state: str) -> None:
-        if state != self.state:
-            self.state = state
-            self.since_ns = time.time_ns()
 
     def received(self, at_ns: int) -> None:
         """One message (a datagram, a notification) taken in at `at_ns`."""
         self.messages += 1
         self.last_message_ns = at_ns
 
-    def error(self, kind: str, text: str) -> None:
-        """Count an error of `kind` (a short name: malformed, truncated, refused_sender,...)
-        and keep its text as the last error."""
-        self.errors[kind] += 1
-        self.last_error = f"{kind}: {text}"[:MAX_ERROR_TEXT]
-        self.last_error_ns = time.time_ns()
-
     def view(self) -> dict[str, Any]:
         return {
-            "state": self.state,
-            "since_ns": self.since_ns,
+            **self.health_view(),
             "last_message_ns": self.last_message_ns,
             "messages": self.messages,
             "samples": self.samples,
             "rejected": self.rejected,
             "commands": self.commands,
-            "errors": dict(self.errors),
-            "error_count": sum(self.errors.values()),
-            "last_error": self.last_error,
-            "last_error_ns": self.last_error_ns,
         }
 
 
