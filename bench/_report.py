@@ -178,10 +178,10 @@ def goals(report: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def write_json(report: dict[str, Any], path: Path | None) -> Path:
-    """Write the report to `path`, or to bench/results/api-<UTC timestamp>.json."""
+def write_json(report: dict[str, Any], path: Path | None, name: str = "api") -> Path:
+    """Write the report to `path`, or to bench/results/<name>-<UTC timestamp>.json."""
     stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
-    path = path or RESULTS / f"api-{stamp}.json"
+    path = path or RESULTS / f"{name}-{stamp}.json"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(report, indent=2, ensure_ascii=False) + "\n")
     return path

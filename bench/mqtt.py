@@ -26,7 +26,7 @@ import psutil
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _mqtt_broker import BROKER_SETTINGS, Mosquitto, TwinlinkWithEnv
-from _report import machine_info
+from _report import machine_info, write_json
 
 HERE = Path(__file__).resolve().parent
 SLUG = "mqtt-bench"
@@ -359,10 +359,7 @@ def main() -> int:
     report["broker_settings"] = BROKER_SETTINGS
     report["goals"] = goals(report)
     print(render(report))
-    stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
-    path = args.json or HERE / "results" / f"mqtt-{stamp}.json"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(report, indent=2))
+    path = write_json(report, args.json, "mqtt")
     print(f"\nresults: {os.path.relpath(path)}")
     return 0
 

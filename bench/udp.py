@@ -24,7 +24,7 @@ import httpx
 import psutil
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _report import machine_info
+from _report import machine_info, write_json
 from _server import Twinlink
 
 HERE = Path(__file__).resolve().parent
@@ -217,10 +217,7 @@ def main() -> int:
         print(f"reference, {case.label} ...", flush=True)
         report["references"].append(run_reference(case, seconds))
     print(render(report))
-    stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
-    path = args.json or HERE / "results" / f"udp-{stamp}.json"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(report, indent=2))
+    path = write_json(report, args.json, "udp")
     print(f"\nresults: {os.path.relpath(path)}")
     return 0
 
