@@ -151,25 +151,8 @@ def run_twinlink_case(
     # Stored by the clients' last PUBACK, or when the count was first seen complete (the
     # external mode: the broker acknowledges before twinlink has stored).
     elapsed = max(seen or 0.0, sent["end"]) - sent["start"]
-    return {
-        "case": case.label,
-        "key": case.key,
-        "mode": case.mode,
-        "qos": case.qos,
-        "samples_per_message": case.per_message,
-        "connections": CONNECTIONS,
-        "window": case.window,
-        "sent": sent["sent"],
-        "send_seconds": round(sent["seconds"], 3),
-        "stored": stored,
-        "stored_share": stored / (sent["sent"] * case.per_message) if sent["sent"] else None,
-        "seconds": round(elapsed, 3),
-        "sent_per_s": sent["sent"] / sent["seconds"],
-        "stored_per_s": stored / elapsed,
-        "server_cpu": cpu.share(elapsed),
-        "broker_cpu": broker_cpu.share(elapsed),
-        "client_cpu": sent["client_cpu"],
-    }
+    return _row(case, sent, stored, stored / (sent["sent"] * case.per_message) if sent["sent"]
+                else None, elapsed, cpu.share(elapsed), broker_cpu.share(elapsed))  # fmt: skip
 
 
 def run_reference(broker: Mosquitto, case: Case, seconds: float) -> dict[str, Any]:
@@ -190,6 +173,16 @@ def run_reference(broker: Mosquitto, case: Case, seconds: float) -> dict[str, An
     finally:
         sub.stdin.close()
         sub.wait(10)
+    received = got["received"]  # by the subscriber: nothing is stored
+    share = received / sent["sent"] if sent["sent"] else None
+    # server CPU: the counting subscriber's
+    return _row(case, sent, received, share, elapsed, subscriber_cpu, mosquitto_cpu)
+
+
+def _row(
+    case: Case, sent: dict[str, Any], stored: int, share: float | None, elapsed: float,
+    server_cpu: float | None, broker_cpu: float | None,
+) -> dict[str, Any]:  # fmt: skip
     return {
         "case": case.label,
         "key": case.key,
@@ -200,13 +193,13 @@ def run_reference(broker: Mosquitto, case: Case, seconds: float) -> dict[str, An
         "window": case.window,
         "sent": sent["sent"],
         "send_seconds": round(sent["seconds"], 3),
-        "stored": got["received"],  # received by the subscriber: nothing is stored
-        "stored_share": got["received"] / sent["sent"] if sent["sent"] else None,
+        "stored": stored,
+        "stored_share": share,
         "seconds": round(elapsed, 3),
         "sent_per_s": sent["sent"] / sent["seconds"],
-        "stored_per_s": got["received"] / elapsed,
-        "server_cpu": subscriber_cpu,  # the counting subscriber's
-        "broker_cpu": mosquitto_cpu,
+        "stored_per_s": stored / elapsed,
+        "server_cpu": server_cpu,
+        "broker_cpu": broker_cpu,
         "client_cpu": sent["client_cpu"],
     }
 
