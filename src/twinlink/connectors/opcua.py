@@ -44,6 +44,7 @@ from twinlink.connectors.opcua_session import (
     subscribe,
 )
 from twinlink.connectors.opcua_values import SampleBatcher, read_data_value
+from twinlink.tasks import until_first_done
 
 __all__ = ["OpcUaConnector"]
 
@@ -192,23 +193,17 @@ class OpcUaConnector(Connector):
         taking = asyncio.create_task(self._take(subscribed, batcher))
         flushing = asyncio.create_task(self._flush_periodically(batcher))
         losing = asyncio.create_task(lost.wait())
-        tasks = (taking, flushing, losing)
         try:
-            await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+            error = await until_first_done((taking, flushing, losing))
         finally:
-            for task in tasks:
-                task.cancel()
-            await asyncio.gather(*tasks, return_exceptions=True)
             await self._flush(batcher)
         url = self.settings.url
         if lost.is_set():
             return f"the connection to {url} was lost ({self._lost_reason})"
-        for task in (taking, flushing):
-            error = None if task.cancelled() or not task.done() else task.exception()
-            if isinstance(error, (SessionLost, *CONNECTION_ERRORS)):
-                return f"{url}: {error}"
-            if error is not None:
-                raise error  # a bug: Connector._run reports it
+        if isinstance(error, (SessionLost, *CONNECTION_ERRORS)):
+            return f"{url}: {error}"
+        if error is not None:
+            raise error  # a bug: Connector._run reports it
         return f"the connection to {url} was lost"
 
     async def _take(self, subscribed: Subscribed, batcher: SampleBatcher) -> None:
