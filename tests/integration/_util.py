@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import secrets
 import time
+from collections.abc import Callable
 from datetime import datetime
 from pathlib import Path
 from typing import Any
@@ -165,3 +166,14 @@ def last_error(server: Server) -> str:
     """The last exception line the server logged, for a short failure message."""
     lines = [ln for ln in server.log().splitlines() if "Error" in ln and len(ln) < 300]
     return lines[-1] if lines else "(no error line found)"
+
+
+def poll_until(check: Callable[[], Any], what: str, timeout_s: float = 20.0) -> Any:
+    """Poll `check` (which reads the real state) until it gives a true value; return it."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        value = check()
+        if value:
+            return value
+        time.sleep(0.05)  # polling the real state, not waiting for it to happen
+    raise AssertionError(f"timed out waiting for {what}")

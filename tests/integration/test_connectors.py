@@ -6,8 +6,6 @@ from __future__ import annotations
 import socket
 import subprocess
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -17,9 +15,7 @@ import pytest
 
 from tests.conftest import ROOT, Server, restart_server, start_server, stop_server
 from tests.integration._fixtures import no_server_errors as no_server_errors
-from tests.integration._util import apply, assert_problem, make_user, twin_doc, unique
-
-WAIT_S = 20.0
+from tests.integration._util import apply, assert_problem, make_user, poll_until, twin_doc, unique
 
 
 def _twin(server: Server) -> str:
@@ -60,16 +56,6 @@ def _count(server: Server, slug: str, stream: str) -> int:
     return sum(s["count"] for s in r.json()["streams"] if s["name"] == stream)
 
 
-def _until(check: Callable[[], Any], what: str) -> Any:
-    deadline = time.monotonic() + WAIT_S
-    while time.monotonic() < deadline:
-        value = check()
-        if value:
-            return value
-        time.sleep(0.05)  # polling the real state, not waiting for it to happen
-    raise AssertionError(f"timed out waiting for {what}")
-
-
 def _samples_arrive(server: Server, slug: str, port: int, stream: str = "telemetry") -> int:
     """Send datagrams until the stream grows (UDP may drop one), return the new count."""
     before = _count(server, slug, stream)
@@ -79,7 +65,7 @@ def _samples_arrive(server: Server, slug: str, port: int, stream: str = "telemet
         now = _count(server, slug, stream)
         return now if now > before else 0
 
-    return int(_until(grown, f"samples in {stream}"))
+    return int(poll_until(grown, f"samples in {stream}"))
 
 
 def _port_is_free(port: int) -> bool:
@@ -262,4 +248,4 @@ def test_deleting_its_device_or_twin_stops_it(server: Server) -> None:
         assert names == ["b"]
         assert _port_is_free(first)
         assert admin.delete(f"/api/v1/twins/{slug}").status_code in (200, 204)
-    _until(lambda: _port_is_free(second), "the deleted twin's connector to stop")
+    poll_until(lambda: _port_is_free(second), "the deleted twin's connector to stop")

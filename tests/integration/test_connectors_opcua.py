@@ -6,21 +6,19 @@ from __future__ import annotations
 
 import asyncio
 import threading
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
 
 from tests.conftest import Server, free_port
 from tests.integration._fixtures import no_server_errors as no_server_errors
-from tests.integration._util import apply, assert_problem, twin_doc, unique
+from tests.integration._util import apply, assert_problem, poll_until, twin_doc, unique
 from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
 from twinlink.crane.plant import CranePlant
 
 PASSWORD = "crane-op-7f3a9c"
 NS = "ns=2;s=Ilmatar"
-WAIT_S = 20.0
 
 
 class Crane:
@@ -52,16 +50,6 @@ class Crane:
 def crane() -> Iterator[Crane]:
     with Crane() as c:
         yield c
-
-
-def _until(check: Callable[[], Any], what: str) -> Any:
-    deadline = time.monotonic() + WAIT_S
-    while time.monotonic() < deadline:
-        value = check()
-        if value:
-            return value
-        time.sleep(0.05)  # polling the real state, not waiting for it to happen
-    raise AssertionError(f"timed out waiting for {what}")
 
 
 def _config(crane: Crane, **extra: Any) -> dict[str, Any]:
@@ -96,13 +84,13 @@ def test_an_opcua_connector_made_by_api(server: Server, crane: Crane) -> None:
             view = admin.get(f"/api/v1/twins/{slug}/connectors/plc").json()
             return view if view["status"]["state"] == "connected" else None
 
-        _until(connected, "the connector to connect")
+        poll_until(connected, "the connector to connect")
 
         def stored() -> bool:
             streams = admin.get(f"/api/v1/twins/{slug}/streams").json()["streams"]
             return any(s["count"] > 0 for s in streams)
 
-        _until(stored, "the crane's values in the twin's history")
+        poll_until(stored, "the crane's values in the twin's history")
         r = admin.post(
             f"/api/v1/twins/{slug}/commands",
             json={"name": "set_bridge_speed", "args": {"value": 0.25}, "device": "plc"},
@@ -114,7 +102,7 @@ def test_an_opcua_connector_made_by_api(server: Server, crane: Crane) -> None:
         # A change of another setting keeps the password; a wrong one shows in the status.
         r = admin.patch(f"/api/v1/twins/{slug}/connectors/plc", json={"config": {"stream": "plc"}})
         assert r.status_code == 200 and r.json()["config"]["password_set"] is True
-        _until(connected, "the connector to connect again with the kept password")
+        poll_until(connected, "the connector to connect again with the kept password")
         r = admin.patch(
             f"/api/v1/twins/{slug}/connectors/plc", json={"config": {"password": "wrong-one"}}
         )
@@ -124,7 +112,7 @@ def test_an_opcua_connector_made_by_api(server: Server, crane: Crane) -> None:
             status = admin.get(f"/api/v1/twins/{slug}/connectors/plc").json()["status"]
             return status["last_error"] if status["state"] == "error" else None
 
-        assert "password" in _until(refused, "the wrong password to be reported")
+        assert "password" in poll_until(refused, "the wrong password to be reported")
         r = admin.post(f"/api/v1/twins/{slug}/connectors", json={
             "name": "bad", "kind": "opcua", "config": {"url": "http://not-opc"}})  # fmt: skip
         assert "url" in assert_problem(r, 422)["detail"]
