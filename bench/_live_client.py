@@ -307,6 +307,10 @@ MODES: dict[str, Callable[[Config, Control], Awaitable[None]]] = {
 
 
 async def main() -> None:
+    # Here, not at the top: _live_steady imports this module.
+    from _live_steady import steady_devices, watch_twins
+
+    MODES.update(steady=steady_devices, watch=watch_twins)
     ctl = Control()
     cfg = await ctl.open()
     try:

@@ -103,6 +103,9 @@ class Options:
     history_span_s: float
     history_requests: int
     connections: int
+    steady_devices: int  # the steady fleet: devices sending one sample a batch
+    steady_rate: float  # samples/s a device
+    steady_seconds: float
     history_sync: str
     profile: bool
 

@@ -47,6 +47,7 @@ from _live_fleet import Bench, Fleet, Options, make_fleet
 from _live_history import history
 from _live_ingest import many_devices, one_device
 from _live_report import FAILED, Row, default_json_path, failed, relative, render
+from _live_steady import steady
 from _live_stream import commands, latency
 from _report import RESULTS, _version, machine_info, write_json
 from _server import Twinlink
@@ -58,6 +59,7 @@ Runner = Callable[[Bench], Awaitable[list[Row]]]
 CASES: dict[str, list[Runner]] = {
     "connections": [connections],
     "ingest": [one_device, many_devices],
+    "steady": [steady],
     "latency": [latency],
     "commands": [commands, commands_ws],
     "history": [history],
@@ -83,6 +85,8 @@ def parse_args(argv: list[str] | None) -> tuple[Options, Path | None]:
     p.add_argument("--client-procs", type=int, default=2, help="processes for many devices")
     p.add_argument("--rates", default="100,1000,10000", help="latency case rates (samples/s)")
     p.add_argument("--connections", type=int, help="devices held open (default 1000)")
+    p.add_argument("--steady-devices", type=int, help="steady fleet devices (2000; 500 quick)")
+    p.add_argument("--steady-rate", type=float, default=2.0, help="steady samples/s a device")
     p.add_argument("--history-samples", type=int, help="stored samples (10 M; 1 M quick)")
     p.add_argument(
         "--history-batch", type=int, default=10_000, help="samples per stored block (10000)"
@@ -116,6 +120,9 @@ def parse_args(argv: list[str] | None) -> tuple[Options, Path | None]:
         history_span_s=10_000.0,
         history_requests=50 if q else 200,
         connections=a.connections or 1000,
+        steady_devices=a.steady_devices or (500 if q else 2000),
+        steady_rate=a.steady_rate,
+        steady_seconds=10.0 if q else 30.0,
         history_sync=a.history_sync,
         profile=a.profile,
     )
@@ -180,7 +187,8 @@ async def _benchmark(opts: Options, server: Twinlink, report: dict[str, Any]) ->
     except RuntimeError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
-    count = max([opts.connections, *opts.many_devices]) + SPARE_TWINS
+    steady = opts.steady_devices if "steady" in opts.cases else 0
+    count = max([opts.connections, steady, *opts.many_devices]) + SPARE_TWINS
     print(f"creating {count} twins with a device each ...", flush=True)
     fleet: Fleet = await make_fleet(server, "bench", count)
     report["fleet"] = {"devices": len(fleet), "seconds": round(fleet.seconds, 1)}
