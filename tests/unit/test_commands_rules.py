@@ -16,6 +16,7 @@ from twinlink.commands.rules import (
     same_value,
 )
 from twinlink.domain.errors import InvalidInputError
+from twinlink.domain.jsontext import int64_problem
 
 RULES = rules_from_interface(
     {
@@ -78,6 +79,34 @@ def test_a_twin_without_commands_takes_any_name_and_json_args() -> None:
     assert check_command(OPEN_RULES, "whatever", args) == args
     with pytest.raises(InvalidInputError, match="at most"):
         check_command(OPEN_RULES, "big", {"blob": "x" * 70_000})
+
+
+@pytest.mark.parametrize("rules", [OPEN_RULES, RULES], ids=["open", "declared"])
+@pytest.mark.parametrize("n", [2**63, -(2**63) - 1, 2**64, 2**80])
+def test_arguments_beyond_64_bits_are_refused_with_their_place(rules: Any, n: int) -> None:
+    # Anywhere in the arguments, before orjson (which cannot write them) ever sees them.
+    for args, place in [
+        ({"x": n}, "args.x"),
+        ({"x": 0.5, "steps": [1, {"deep": n}]}, "args.steps[1].deep"),
+    ]:
+        with pytest.raises(InvalidInputError) as err:
+            check_command(rules, "move", args)
+        assert str(err.value) == f"move: {place}: {int64_problem(n)}"
+
+
+def test_arguments_at_the_64_bit_bounds_are_kept() -> None:
+    args = {"low": -(2**63), "high": 2**63 - 1}
+    assert check_command(OPEN_RULES, "edges", args) == args
+
+
+@pytest.mark.parametrize("n", [2**63, -(2**63) - 1, 10**30])
+def test_property_values_beyond_64_bits_get_the_one_message(n: int) -> None:
+    with pytest.raises(InvalidInputError) as err:
+        check_desired(RULES, {"rate": n})
+    assert str(err.value) == f"desired rate: {int64_problem(n)}"
+    with pytest.raises(InvalidInputError) as err:
+        check_reported(OPEN_RULES, {"count": n})
+    assert str(err.value) == f"reported count: {int64_problem(n)}"
 
 
 def test_desired_values_must_be_writable_known_and_in_range() -> None:

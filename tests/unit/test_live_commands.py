@@ -15,6 +15,7 @@ from twinlink.auth.service import AuthError
 from twinlink.bus import MemoryBus
 from twinlink.commands.model import CommandRecord
 from twinlink.domain.errors import ForbiddenError, InvalidInputError
+from twinlink.domain.jsontext import int64_problem
 from twinlink.live.commands import CommandOps
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
@@ -150,6 +151,27 @@ async def test_malformed_ops_are_refused_before_anything_is_sent(
         "error", "command", "c1", 422,
     )  # fmt: skip
     assert answer["message"].startswith(text) and commands.sent == []
+
+
+@pytest.mark.parametrize("n", [2**63, -(2**63) - 1, 2**80])
+async def test_arguments_beyond_64_bits_are_refused_not_rounded(n: int) -> None:
+    # orjson read 2**80 as 1.2089258196146292e+24 and the command went out with that float.
+    session, commands, _ = make()
+    await session.handle(
+        f'{{"op": "command", "id": "c1", "twin": "rig", "name": "go", "args": {{"v": [{n}]}}}}'
+    )
+    [answer] = sent(session)
+    assert (answer["type"], answer["op"], answer["id"], answer["status"]) == (
+        "error", "command", "c1", 422,
+    )  # fmt: skip
+    assert answer["message"] == f"args.v[0]: {int64_problem(n)}" and commands.sent == []
+
+
+async def test_arguments_at_the_64_bit_bounds_go_out_exact() -> None:
+    session, commands, _ = make()
+    await op(session, name="go", args={"low": -(2**63), "high": 2**63 - 1})
+    await settled(session)
+    assert commands.sent[0]["args"] == {"low": -(2**63), "high": 2**63 - 1}
 
 
 async def test_ops_run_side_by_side() -> None:

@@ -11,6 +11,7 @@ from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError
 from twinlink.bus import MemoryBus, samples_subject
 from twinlink.domain.errors import NotFoundError
+from twinlink.domain.jsontext import int64_problem
 from twinlink.domain.samples import SampleBatch
 from twinlink.live import protocol
 from twinlink.live.hub import LiveHub
@@ -135,6 +136,16 @@ async def test_unsubscribe_stops_delivery_and_leaves_the_hub() -> None:
         ('{"op": "subscribe", "id": "a", "twin": "rig", "max_rate": true}', '"max_rate" must'),
         ('{"op": "subscribe", "id": "a", "twin": "ghost"}', "no twin 'ghost'"),
         ('{"op": "auth", "token": "tl_good"}', "already authenticated"),
+        (
+            '{"op": "subscribe", "id": "a", "twin": "rig", "max_rate": 1e400}',
+            "the message is not JSON: a number is out of range",
+        ),
+        ('{"op": "ping", "id": NaN}', "the message is not JSON: JSON is malformed"),
+        (f'{{"op": "ping", "id": {2**64}}}', f"id: {int64_problem(2**64)}"),
+        (
+            f'{{"op": "subscribe", "id": "a", "twin": "rig", "max_rate": {10**400}}}',
+            f"max_rate: {int64_problem(10**400)}",
+        ),
         ("x" * (protocol.MAX_CLIENT_MESSAGE + 1), "a message holds at most"),
         ("é" * 40_000, "a message holds at most"),  # 40 000 characters, 80 000 bytes
     ],

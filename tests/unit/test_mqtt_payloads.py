@@ -6,6 +6,7 @@ from typing import Any
 
 import pytest
 
+from twinlink.domain.jsontext import int64_problem
 from twinlink.domain.samples import BatchError
 from twinlink.ingest.mqtt.payloads import (
     Telemetry,
@@ -83,3 +84,39 @@ def test_reported() -> None:
     assert reported_message(b'{"rate": 50}', 4) == {
         "type": "reported", "properties": {"rate": 50}, "id": 4,
     }  # fmt: skip
+
+
+BIG = 2**80
+
+
+def test_telemetry_keeps_big_integers_exact_for_the_platform_to_reject() -> None:
+    # Never rounded to a float: the platform rejects the sample with the one message.
+    assert read_telemetry(f'{{"angle": {BIG}}}'.encode(), None).samples == [
+        {"values": {"angle": BIG}}
+    ]
+
+
+@pytest.mark.parametrize("seq", [2**63, -(2**63) - 1, BIG])
+def test_a_batch_number_beyond_64_bits_is_refused(seq: int) -> None:
+    with pytest.raises(BatchError) as err:
+        read_telemetry(f'{{"seq": {seq}, "samples": []}}'.encode(), None)
+    assert str(err.value) == f"seq: {int64_problem(seq)}"
+
+
+@pytest.mark.parametrize(
+    ("payload", "why"),
+    [
+        (f'{{"result": {{"count": [1, {BIG}]}}}}', "a result: result.count[1]: "),
+        (f'{{"status": "failed", "error": "x", "code": {-BIG}}}', "a result: code: "),
+    ],
+)
+def test_a_result_holding_an_integer_beyond_64_bits_is_refused(payload: str, why: str) -> None:
+    with pytest.raises(BatchError) as err:
+        result_message("c1", payload.encode())
+    assert str(err.value).startswith(why) and "does not fit in 64 bits" in str(err.value)
+
+
+def test_reported_properties_beyond_64_bits_are_refused_with_their_name() -> None:
+    with pytest.raises(BatchError) as err:
+        reported_message(f'{{"rate": 50, "count": {BIG}}}'.encode(), 4)
+    assert str(err.value) == f"reported properties: count: {int64_problem(BIG)}"

@@ -20,6 +20,7 @@ from twinlink.connectors.opcua_values import (
     read_data_value,
     variant_for,
 )
+from twinlink.domain.jsontext import int64_problem
 
 ARRIVAL = 1_800_000_000_000_000_000
 SOURCE = datetime(2025, 3, 4, 5, 6, 7, 123456, tzinfo=UTC)
@@ -99,7 +100,7 @@ def test_platform_values(raw: Any, value: Any) -> None:
 @pytest.mark.parametrize(
     ("raw", "why"),
     [
-        (2**64 - 1, "18446744073709551615 does not fit in 64 bits"),
+        (2**64 - 1, int64_problem(2**64 - 1)),
         (float("nan"), "nan is not a finite number"),
         ("x" * 1025, "a string of 1025 characters (at most 1024)"),
         (None, "the value is empty (null)"),

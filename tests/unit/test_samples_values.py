@@ -18,10 +18,13 @@ from tests.unit._samples import (
     reason,
     schema,
 )
+from twinlink.domain.jsontext import int64_problem, loads
 from twinlink.domain.samples import (
     MAX_STRING,
     OPEN_SCHEMA,
     SignalRule,
+    big_int_outside_samples,
+    read_batch,
     schema_from_interface,
 )
 
@@ -104,14 +107,37 @@ def test_numbers_bools_and_strings_are_kept_as_sent(value: Any) -> None:
         (float("nan"), "v: nan is not a finite number"),
         (float("inf"), "v: inf is not a finite number"),
         (float("-inf"), "v: -inf is not a finite number"),
-        (2**63, f"v: {2**63} does not fit in 64 bits"),
-        (-(2**63) - 1, f"v: {-(2**63) - 1} does not fit in 64 bits"),
-        (10**30, f"v: {10**30} does not fit in 64 bits"),
+        (2**63, f"v: {int64_problem(2**63)}"),
+        (-(2**63) - 1, f"v: {int64_problem(-(2**63) - 1)}"),
+        (10**30, f"v: {int64_problem(10**30)}"),
         ("x" * (MAX_STRING + 1), "v: a string value holds at most 1024 characters"),
     ],
 )
 def test_values_that_cannot_be_stored_are_rejected(value: Any, message: str) -> None:
     assert reason({"values": {"v": value}}) == message
+
+
+def test_integers_beyond_64_bits_sent_as_json_are_rejected_not_rounded() -> None:
+    # Read as the transports read it: exact, so 2**80 is refused instead of stored as 1.2e24.
+    body = loads(
+        f'{{"seq": 1, "samples": [{{"values": {{"a": {2**80}}}}}, {{"values": {{"a": 5}}}},'
+        f' {{"values": {{"a": {-(2**63)}, "b": {2**63 - 1}}}}}]}}'
+    )
+    out = read_batch(body, OPEN_SCHEMA, NOW)
+    assert out.values == [{"a": 5}, {"a": -(2**63), "b": 2**63 - 1}]
+    assert [(r.index, r.reason) for r in out.rejected] == [(0, f"a: {int64_problem(2**80)}")]
+
+
+def test_a_device_message_is_refused_for_a_big_integer_outside_its_samples() -> None:
+    inside = {"type": "samples", "seq": 1, "samples": [{"values": {"a": 2**80}}]}
+    assert big_int_outside_samples(inside) is None  # the sample's own business
+    assert big_int_outside_samples({"type": "samples", "seq": 2**64, "samples": []}) == (
+        f"seq: {int64_problem(2**64)}"
+    )
+    reported = {"type": "reported", "id": 3, "properties": {"rate": 5, "n": -(2**70)}}
+    assert big_int_outside_samples(reported) == f"properties.n: {int64_problem(-(2**70))}"
+    result = {"type": "result", "id": "c1", "status": "succeeded", "result": [0, {"x": 2**63}]}
+    assert big_int_outside_samples(result) == f"result[1].x: {int64_problem(2**63)}"
 
 
 def test_long_values_are_shortened_in_the_message() -> None:

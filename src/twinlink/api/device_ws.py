@@ -7,7 +7,6 @@ import asyncio
 import logging
 from typing import Any
 
-import orjson
 from fastapi import APIRouter, Request, WebSocket
 from starlette.websockets import WebSocketDisconnect
 
@@ -15,7 +14,8 @@ from twinlink.api.devices import ThisDevice
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.service import AuthError
 from twinlink.domain.errors import DocumentTooLargeError
-from twinlink.domain.samples import BatchError
+from twinlink.domain.jsontext import JsonTextError, fits_int64, loads
+from twinlink.domain.samples import BatchError, big_int_outside_samples
 from twinlink.ingest.link import DeviceLink, connect_device, disconnect_device
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceSession
@@ -48,8 +48,8 @@ async def post_samples(request: Request, device: ThisDevice) -> dict[str, Any]:
         if len(body) > MAX_BATCH_BYTES:
             raise DocumentTooLargeError(f"A batch is at most {MAX_BATCH_BYTES} bytes.")
     try:
-        parsed = orjson.loads(body)
-    except orjson.JSONDecodeError as err:
+        parsed = loads(body)  # integers exact: one beyond 64 bits is refused, not rounded
+    except JsonTextError as err:
         raise BatchError(f"the body is not JSON: {err}") from None
     ingest: IngestService = request.app.state.services.ingest
     return (await ingest.ingest(device, parsed)).message()
@@ -96,11 +96,31 @@ async def _read(link: DeviceLink, websocket: WebSocket) -> None:
             return
         raw = frame.get("text") or frame.get("bytes") or b""
         try:
-            message = orjson.loads(raw)
-        except orjson.JSONDecodeError as err:
+            message = loads(raw)  # integers exact: one beyond 64 bits is refused, not rounded
+        except JsonTextError as err:
             link.error(f"the message is not JSON: {err}")
             continue
         if not isinstance(message, dict):
             link.error("a message is a JSON object with a `type`")
             continue
+        big = big_int_outside_samples(message)
+        if big is not None:
+            _refuse(link, message, big)
+            continue
         await link.dispatch(message)
+
+
+def _refuse(link: DeviceLink, message: dict[str, Any], text: str) -> None:
+    """Answer a message refused before dispatch as `dispatch` answers its own refusals: a
+    batch by its `seq`, any other message by its type and `id` (each only if it can be
+    echoed: the number refused may be that one)."""
+    kind, seq, ref = message.get("type"), message.get("seq"), message.get("id")
+    if kind == "samples":
+        link.error(text, seq=seq if _echoable(seq) else None)
+    else:
+        link.error(text, op=kind if isinstance(kind, str) else "",
+                   ref=ref if _echoable(ref) else None)  # fmt: skip
+
+
+def _echoable(value: Any) -> bool:
+    return isinstance(value, str) or (type(value) is int and fits_int64(value))

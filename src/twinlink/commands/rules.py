@@ -17,6 +17,7 @@ from typing import Any
 import orjson
 
 from twinlink.domain.errors import InvalidInputError
+from twinlink.domain.jsontext import first_big_int, int64_problem
 
 NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.:-]{0,127}$")
 MAX_STRING = 1024
@@ -88,6 +89,10 @@ def check_command(rules: Rules, name: Any, args: Any) -> dict[str, Any]:
         args = {}
     if not isinstance(args, dict):
         raise InvalidInputError("`args` must be a JSON object of argument name -> value")
+    # Before anything writes them: orjson cannot, and a device could not read them.
+    big = first_big_int(args, "args")
+    if big is not None:
+        raise InvalidInputError(f"{name}: {big[0]}: {int64_problem(big[1])}")
     if len(orjson.dumps(args)) > MAX_ARGS_BYTES:
         raise InvalidInputError(f"`args` may hold at most {MAX_ARGS_BYTES} bytes of JSON")
     if not rules.commands:
@@ -127,7 +132,7 @@ def check_plain(name: Any, value: Any, where: str = "") -> None:
     if kind is float and not math.isfinite(value):
         raise InvalidInputError(f"{where}{name}: {value} is not a finite number")
     if kind is int and not -_INT_LIMIT <= value < _INT_LIMIT:
-        raise InvalidInputError(f"{where}{name}: {value} does not fit in 64 bits")
+        raise InvalidInputError(f"{where}{name}: {int64_problem(value)}")
     if kind is str and len(value) > MAX_STRING:
         raise InvalidInputError(f"{where}{name}: a string holds at most {MAX_STRING} characters")
     if kind not in (float, int, str, bool):

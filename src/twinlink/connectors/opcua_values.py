@@ -12,6 +12,7 @@ from typing import Any
 
 from asyncua import ua
 
+from twinlink.domain.jsontext import int64_problem
 from twinlink.domain.samples import MAX_STRING, Value
 
 _EPOCH = datetime(1970, 1, 1, tzinfo=UTC)
@@ -77,7 +78,7 @@ def platform_value(raw: Any) -> Value:
         return raw
     if isinstance(raw, int):  # every integer type, enumerations too
         if not -_INT64 <= raw < _INT64:
-            raise ValueRefused(f"{raw} does not fit in 64 bits")
+            raise ValueRefused(int64_problem(raw))
         return int(raw)
     if isinstance(raw, float):
         if not math.isfinite(raw):

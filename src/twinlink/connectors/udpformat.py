@@ -14,7 +14,7 @@ import struct
 from collections.abc import Callable, Sequence
 from typing import Any
 
-import orjson
+from twinlink.domain.jsontext import JsonTextError, loads
 
 Sample = dict[str, Any]
 Report = Callable[[str, str], None]
@@ -255,8 +255,8 @@ class JsonDecoder:
 
     def decode(self, data: bytes, arrival_ns: int) -> list[Sample]:
         try:
-            body = orjson.loads(data)
-        except orjson.JSONDecodeError as err:
+            body = loads(data)  # integers exact: the platform rejects one beyond 64 bits
+        except JsonTextError as err:
             raise DecodeError("bad_json", f"not JSON ({err})") from None
         if not isinstance(body, dict):
             raise DecodeError("bad_json", "a datagram holds one JSON object")

@@ -14,6 +14,7 @@ from datetime import UTC, datetime, timedelta
 from typing import Any, Literal
 
 from twinlink.domain.errors import InvalidInputError
+from twinlink.domain.jsontext import first_big_int, int64_problem
 
 Value = float | int | bool | str
 
@@ -109,6 +110,18 @@ def schema_from_interface(interface: dict[str, Any] | None) -> Schema:
     return Schema(rules, unknown, out_of_range)
 
 
+def big_int_outside_samples(message: dict[str, Any]) -> str | None:
+    """Why a device message (read with `jsontext.loads`) is refused for an integer outside
+    64 bits anywhere but in its `samples` (each sample is judged on its own by `read_batch`,
+    which already looks at every value), or None. The message names the place."""
+    for key, value in message.items():
+        if key != "samples":
+            found = first_big_int(value, str(key))
+            if found is not None:
+                return f"{found[0]}: {int64_problem(found[1])}"
+    return None
+
+
 def read_batch(body: Any, schema: Schema, now_ns: int) -> ReadBatch:
     """Read one batch (already parsed JSON). Raises `BatchError` when it cannot be read."""
     if not isinstance(body, dict):
@@ -175,15 +188,15 @@ def _read_time(raw: Any, scale: int) -> int | None:
         try:
             parsed = datetime.fromisoformat(raw.replace("Z", "+00:00"))
         except ValueError:
-            raise ValueError(f"`time` {raw!r} is not an ISO 8601 time") from None
+            raise ValueError(f"`time` {_show(raw)} is not an ISO 8601 time") from None
         if parsed.tzinfo is None:
-            raise ValueError(f"`time` {raw!r} has no time zone (add Z for UTC)")
+            raise ValueError(f"`time` {_show(raw)} has no time zone (add Z for UTC)")
         # Integer arithmetic: a float timestamp loses microseconds after 2106.
         time_ns = (parsed - _EPOCH) // timedelta(microseconds=1) * 1000
     else:
         raise ValueError("`time` must be an integer, a number or an ISO 8601 string")
     if not _EARLIEST_NS <= time_ns <= _LATEST_NS:
-        raise ValueError(f"`time` {raw!r} is outside 1990..2200 (is `time_unit` right?)")
+        raise ValueError(f"`time` {_show(raw)} is outside 1990..2200 (is `time_unit` right?)")
     return time_ns
 
 
@@ -211,7 +224,7 @@ def _check_plain(name: Any, value: Any) -> None:
             raise ValueError(f"{name}: {value} is not a finite number")
     elif kind is int:
         if not -_INT_LIMIT <= value < _INT_LIMIT:
-            raise ValueError(f"{name}: {value} does not fit in 64 bits")
+            raise ValueError(f"{name}: {int64_problem(value)}")
     elif kind is str:
         if len(value) > MAX_STRING:
             raise ValueError(f"{name}: a string value holds at most {MAX_STRING} characters")

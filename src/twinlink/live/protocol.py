@@ -13,6 +13,7 @@ from typing import Any
 
 import orjson
 
+from twinlink.domain.jsontext import JsonTextError, first_big_int, int64_problem, loads
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
 from twinlink.live.subscription import Subscription
 
@@ -66,15 +67,31 @@ def read_message(raw: str | bytes) -> dict[str, Any]:
     if _size(raw) > MAX_CLIENT_MESSAGE:
         raise ClientError(f"a message holds at most {MAX_CLIENT_MESSAGE} bytes")
     try:
-        message = orjson.loads(raw)
-    except orjson.JSONDecodeError as err:
+        message = loads(raw)  # integers exact: one beyond 64 bits is refused, not rounded
+    except JsonTextError as err:
         raise ClientError(f"the message is not JSON: {err}") from None
     if not isinstance(message, dict):
         raise ClientError('a message is a JSON object with an "op"')
     op = message.get("op")
     if not isinstance(op, str):
         raise ClientError(f'a message needs an "op": one of {", ".join(OPS)}')
+    _refuse_big_ints(message, op)
     return message
+
+
+def _refuse_big_ints(message: dict[str, Any], op: str) -> None:
+    """A whole message is refused for an integer outside 64 bits anywhere in it (command
+    arguments, a ping's id): nothing could store, send or echo it as sent."""
+    found = first_big_int(message)
+    if found is None:
+        return
+    sub = message.get("id")
+    raise ClientError(
+        f"{found[0]}: {int64_problem(found[1])}",
+        op=op if op in OPS else None,
+        sub=sub if isinstance(sub, str) and 0 < len(sub) <= MAX_ID else None,
+        status=422 if op == "command" else 0,
+    )
 
 
 def _size(raw: str | bytes) -> int:

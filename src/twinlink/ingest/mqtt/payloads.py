@@ -15,6 +15,7 @@ from typing import Any
 
 import orjson
 
+from twinlink.domain.jsontext import JsonTextError, first_big_int, fits_int64, int64_problem, loads
 from twinlink.domain.samples import BatchError
 
 
@@ -38,10 +39,19 @@ class Telemetry:
 
 
 def parse_json(payload: bytes) -> Any:
+    """The payload's JSON, integers exact: samples holding one beyond 64 bits are rejected
+    each on its own by the platform, other messages here, whole (`_refuse_big_ints`)."""
     try:
-        return orjson.loads(payload)
-    except orjson.JSONDecodeError as err:
+        return loads(payload)
+    except JsonTextError as err:
         raise BatchError(f"the payload is not JSON: {err}") from None
+
+
+def _refuse_big_ints(body: Any, what: str) -> None:
+    found = first_big_int(body)
+    if found is not None:
+        path, number = found
+        raise BatchError(f"{what}: {path + ': ' if path else ''}{int64_problem(number)}")
 
 
 def read_telemetry(payload: bytes, topic_stream: str | None) -> Telemetry:
@@ -69,6 +79,8 @@ def _batch(body: dict[str, Any], topic_stream: str | None) -> Telemetry:
     seq = body.get("seq")
     if seq is not None and (isinstance(seq, bool) or not isinstance(seq, int)):
         raise BatchError("`seq` must be an integer")
+    if seq is not None and not fits_int64(seq):  # it is echoed in acks and errors
+        raise BatchError(f"seq: {int64_problem(seq)}")
     samples = body["samples"]
     if not isinstance(samples, list):
         raise BatchError("`samples` must be a list")
@@ -83,6 +95,7 @@ def read_object(payload: bytes, what: str) -> dict[str, Any]:
     body = parse_json(payload)
     if not isinstance(body, dict):
         raise BatchError(f"{what} is a JSON object")
+    _refuse_big_ints(body, what)
     return body
 
 
