@@ -43,9 +43,16 @@ class JsonFormatter(logging.Formatter):
         return orjson.dumps(out, default=str).decode()
 
 
+# Loggers that log at the chosen level; every other one (asyncua, httpx, websockets, ...) at
+# warning or above: their info lines are for their own developers.
+OWN_LOGGERS = ("twinlink", "uvicorn")
+
+
 def setup_logging(level: str, fmt: str) -> None:
-    """One handler for twinlink's loggers and the server's (uvicorn), so every line has the
-    chosen format."""
+    """One handler, on the root logger, for every logger: twinlink's, the server's (uvicorn)
+    and the libraries' (asyncua warns once per attempt of an OPC UA connector that cannot
+    connect). Without a handler on the root, Python prints library records as plain text
+    lines among the JSON ones."""
     handler = logging.StreamHandler(sys.stderr)
     formatter: logging.Formatter
     if fmt == "json":
@@ -55,11 +62,16 @@ def setup_logging(level: str, fmt: str) -> None:
     formatter.converter = time.gmtime
     handler.setFormatter(formatter)
     handler.addFilter(RedactTokens())
+    chosen = logging.getLevelNamesMapping()[level.upper()]
+    root = logging.getLogger()
+    root.handlers[:] = [handler]
+    root.setLevel(max(logging.WARNING, chosen))
     # asyncua logs a traceback at ERROR each time a server it is connected to goes away;
     # the OPC UA connector's status already says so, with the reason, and it reconnects.
     logging.getLogger("asyncua.client.ua_session").setLevel(logging.CRITICAL)
-    for name in ("twinlink", "uvicorn", "uvicorn.error", "uvicorn.access"):
+    for name in (*OWN_LOGGERS, "uvicorn.error", "uvicorn.access"):
         logger = logging.getLogger(name)
-        logger.handlers[:] = [handler] if name in ("twinlink", "uvicorn") else []
-        logger.setLevel(level.upper())
-        logger.propagate = name != "twinlink" and name != "uvicorn"
+        logger.handlers[:] = []  # records go up to the root's handler, once
+        logger.propagate = True
+        if name in OWN_LOGGERS:
+            logger.setLevel(chosen)
