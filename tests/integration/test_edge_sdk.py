@@ -1,6 +1,7 @@
 """The device SDK (twinlink_edge) against the real server: samples are acknowledged and stored,
 commands reach their handlers and their results come back, desired and reported properties
-travel both ways, and the thesis's `digitalTwinPlt` code runs through the compat module."""
+travel both ways. The thesis's `digitalTwinPlt` code through the compat module is in
+test_edge_compat.py."""
 
 from __future__ import annotations
 
@@ -8,13 +9,11 @@ import queue
 from typing import Any
 
 import httpx
-import pytest
 
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._live import device_twin
 from twinlink_edge import AsyncDevice, Device
-from twinlink_edge.compat import Connect
 
 TIMEOUT = 30.0
 BASE_NS = 1_800_000_000_000_000_000
@@ -112,26 +111,3 @@ def test_desired_properties_reach_the_device_and_reports_come_back(server: Serve
             assert isinstance(version, int) and dev.desired == {}
         shown = admin.get(props).json()
     assert shown["delta"] == {} and shown["reported"]["K"]["value"] == 0.85
-
-
-def test_the_thesis_code_runs_through_the_compat_module(
-    server: Server, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    slug, (token,) = device_twin(server)
-    monkeypatch.setenv("TWINLINK_URL", server.url)
-    monkeypatch.setenv("TWINLINK_DEVICE_TOKEN", token)
-    dtMessaging = Connect(device_id="dev0", topic="0000")
-    try:
-        dtMessaging.add_to_message(name="Temperature", value=20)
-        dtMessaging.add_to_message(name="Input_F_in", value=8)
-        dtMessaging.send()
-        dtMessaging.flush(TIMEOUT)
-        with server.admin as admin:
-            assert command(admin, slug, "pause")["state"] == "succeeded"
-        instruction = dtMessaging.receive()
-    finally:
-        dtMessaging.close()
-    [message] = instruction["0000"]
-    assert message.value == b"pause"
-    [row] = history(server, slug)
-    assert row["values"] == {"Temperature": 20, "Input_F_in": 8}

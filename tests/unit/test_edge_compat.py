@@ -8,12 +8,13 @@ import subprocess
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 import pytest
 
 import twinlink_edge.compat
 import twinlink_edge.compat as digitalTwinPlt
+from tests.conftest import free_port
 from tests.unit.test_edge_device import TIMEOUT, FakeServer
 from twinlink_edge.compat import Connect, Message
 
@@ -30,7 +31,18 @@ def command(cid: str, name: str, args: dict[str, object] | None = None) -> dict[
     return {"type": "command", "id": cid, "name": name, "args": args or {}}
 
 
+def answers(fake: FakeServer) -> list[tuple[str, object]]:
+    """The device's answers to commands, in order: ("delivered", id) or (status, id)."""
+    return [
+        ("delivered" if m["type"] == "delivered" else str(m["status"]), m["id"])
+        for m in fake.received
+        if m["type"] in ("delivered", "result")
+    ]
+
+
 def test_the_thesis_listing_runs(fake: FakeServer) -> None:
+    """Listing 5.1, with a `pause` queued for the device before the script connects."""
+    fake.queued = [command("c1", "pause")]
     dtMessaging = Connect(device_id="fake-device", topic="0000")
     try:
         dtMessaging.add_to_message(name="Temperature", value=20)
@@ -39,14 +51,14 @@ def test_the_thesis_listing_runs(fake: FakeServer) -> None:
         dtMessaging.add_to_message(name="Input_F_in", value=9)  # updates; Temperature stays
         dtMessaging.send()
         dtMessaging.flush(TIMEOUT)
-        fake.push(command("c1", "pause"))
-        fake.wait(lambda f: len(f.of_type("result")) == 1)
+        assert answers(fake) == []  # arrived, but not handed over yet
         paused = []
-        instruction = dtMessaging.receive()
+        instruction = dtMessaging.receive()  # once, as in the listing: no wait, no retry
         for _topic, partition_msg in instruction.items():
             for m in partition_msg:
                 if m.value == b"pause":
                     paused.append(m)
+        fake.wait(lambda f: len(answers(f)) == 2)
     finally:
         dtMessaging.close()
     samples = [s for b in fake.batches() for s in b["samples"]]
@@ -57,7 +69,61 @@ def test_the_thesis_listing_runs(fake: FakeServer) -> None:
     assert samples[0]["time"] <= samples[1]["time"] <= time.time_ns()
     assert list(instruction) == ["0000"] and len(paused) == 1
     assert (paused[0].topic, paused[0].partition, paused[0].offset) == ("0000", 0, 1)
-    assert fake.of_type("result")[0]["status"] == "succeeded"
+    assert paused[0].timestamp <= time.time_ns() // 1_000_000
+    assert answers(fake) == [("delivered", "c1"), ("succeeded", "c1")]
+
+
+def arrived(conn: Connect) -> None:
+    """A round trip to the fake: what it sent before has reached the device."""
+    conn.device._call(conn.device.aio._round_trip(TIMEOUT))
+
+
+def test_commands_never_read_are_answered_failed_at_close(fake: FakeServer) -> None:
+    fake.queued = [command("q", "pause")]
+    conn = Connect(topic="t")
+    try:
+        fake.push(command("read", "stop", {"after": 2}))
+        arrived(conn)
+        assert [m.name for m in conn.receive()["t"]] == ["pause", "stop"]
+        fake.push(command("unread", "start"))
+        arrived(conn)
+    finally:
+        conn.close()
+    assert answers(fake) == [
+        ("delivered", "q"),
+        ("succeeded", "q"),
+        ("delivered", "read"),
+        ("succeeded", "read"),
+        ("failed", "unread"),  # never handed over: not delivered either
+    ]
+    assert fake.of_type("result")[-1]["error"] == "not read by the device"
+
+
+def test_a_command_sent_again_while_it_waits_is_handed_over_once(fake: FakeServer) -> None:
+    """The server sends a queued command again on each connection until it is delivered."""
+    fake.queued = [command("q", "pause")]
+    conn = Connect(topic="t")
+    try:
+        fake.drop()
+        fake.wait(lambda f: f.connections == 2)
+        assert conn.device.wait_connected(TIMEOUT)
+        arrived(conn)  # the second copy has come
+        assert [m.name for m in conn.receive()["t"]] == ["pause"]
+        fake.wait(lambda f: len(answers(f)) == 2)
+    finally:
+        conn.close()
+    assert answers(fake) == [("delivered", "q"), ("succeeded", "q")]
+
+
+def test_connect_returns_connected_or_says_why_not(fake: FakeServer) -> None:
+    with Connect(topic="t", backoff_initial=0.01) as conn:
+        assert conn.device.connected  # at once: no wait_connected() needed
+    refused = r"not connected within 0.5 s: the server refused the device token \(401\)"
+    with pytest.raises(ConnectionError, match=refused):
+        Connect(token="tld_wrong", connect_timeout=0.5, backoff_initial=0.01)
+    nobody = f"http://127.0.0.1:{free_port()}"  # nothing listens there
+    with pytest.raises(ConnectionError, match=r"within 0.5 s: cannot connect to ws://127.0.0.1"):
+        Connect(url=nobody, connect_timeout=0.5, backoff_initial=0.01)
 
 
 def test_the_module_import_form_and_a_pause_loop_that_does_not_spin(fake: FakeServer) -> None:
@@ -93,23 +159,26 @@ def test_receive_waits_only_after_an_empty_call_with_no_send_between(
 ) -> None:
     monkeypatch.setattr(twinlink_edge.compat, "IDLE_WAIT", TIMEOUT)
     conn = Connect(topic="demo")
+    inbox = conn.device.aio._dispatcher.inbox
+    assert inbox is not None
+    waits: list[float] = []
+    waiting = threading.Event()
+    wait = inbox.wait
+
+    async def note_the_wait(timeout: float) -> None:
+        waits.append(timeout)
+        if timeout:
+            waiting.set()
+        await wait(timeout)
+
+    monkeypatch.setattr(inbox, "wait", note_the_wait)
     try:
-        assert conn.device.wait_connected(TIMEOUT)
         conn.add_to_message("x", 1)
-        started = time.monotonic()
         assert conn.receive() == {}  # the first call: at once
         conn.send()
         assert conn.receive() == {}  # a send since the last call: at once
-        assert time.monotonic() - started < TIMEOUT / 2
+        assert waits == [0, 0]
         # Nothing sent, the last call empty: this one waits, and takes the command that comes.
-        waiting = threading.Event()
-        wait_for = conn._cond.wait_for
-
-        def note_the_wait(predicate: Callable[[], bool], timeout: float | None = None) -> bool:
-            waiting.set()
-            return wait_for(predicate, timeout)
-
-        monkeypatch.setattr(conn._cond, "wait_for", note_the_wait)
 
         def push_when_waiting() -> None:
             assert waiting.wait(TIMEOUT)
@@ -122,10 +191,10 @@ def test_receive_waits_only_after_an_empty_call_with_no_send_between(
         [message] = got["demo"]
         assert json.loads(message.value) == {"name": "stop", "args": {"after": 2}}
         assert (message.name, message.args) == ("stop", {"after": 2})
-        started = time.monotonic()
         assert conn.receive() == {}  # the last call returned data: at once
-        assert time.monotonic() - started < TIMEOUT / 2
         assert conn.receive(timeout_ms=0) == {}
+        assert conn.receive(timeout_ms=1) == {}
+        assert waits == [0, 0, TIMEOUT, 0, 0, 0.001]
     finally:
         conn.close()
 

@@ -26,15 +26,16 @@ TIMEOUT = 10.0
 
 
 class FakeServer:
-    """A fake twinlink device endpoint: it sends `welcome` (plus `welcome_extra`), records
-    every message, stores batches (once per seq) and, with `auto_ack`, acks them (duplicates
-    flagged). `on_samples` may answer a batch instead. Thread-safe; `wait`/`until` block or
-    await until a predicate on the fake holds."""
+    """A fake twinlink device endpoint: it sends `welcome` (plus `welcome_extra`, then the
+    `queued` messages), records every message, answers pings, stores batches (once per seq)
+    and, with `auto_ack`, acks them (duplicates flagged). `on_samples` may answer a batch
+    instead. Thread-safe; `wait`/`until` block or await until a predicate on the fake holds."""
 
     def __init__(self, token: str = "tld_fake", *, auto_ack: bool = True) -> None:
         self.token = token
         self.auto_ack = auto_ack
         self.welcome_extra: Msg = {}
+        self.queued: list[Msg] = []  # sent after each welcome, as the server does queued commands
         self.on_samples: Callable[[Msg], Msg | None] | None = None
         self.received: list[Msg] = []
         self.stored: dict[int, int] = {}  # seq -> samples
@@ -161,6 +162,8 @@ class FakeServer:
             return
         welcome = {"type": "welcome", "device": "fake-device", "twin": "fake-twin"}
         await ws.send(json.dumps({**welcome, "server_time": time.time_ns(), **self.welcome_extra}))
+        for message in list(self.queued):
+            await ws.send(json.dumps(message))
         try:
             async for raw in ws:
                 reply = self._receive(json.loads(raw))
@@ -175,6 +178,8 @@ class FakeServer:
         with self._cond:
             self.received.append(msg)
             self._cond.notify_all()
+            if msg["type"] == "ping":
+                return {"type": "pong", "server_time": time.time_ns()}
             if msg["type"] == "reported" and self.answer_reports:
                 self.reported_version += 1
                 return {

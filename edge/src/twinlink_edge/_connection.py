@@ -6,6 +6,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
+from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
 from websockets.asyncio.client import ClientConnection, connect
@@ -13,7 +14,7 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 
 from . import __version__
 from ._batcher import Batcher
-from ._protocol import MAX_FRAME_BYTES, Ack, Backoff, JsonObject, loads
+from ._protocol import MAX_FRAME_BYTES, Ack, Backoff, JsonObject, dumps, loads
 
 if TYPE_CHECKING:
     from .aio import AsyncDevice
@@ -24,6 +25,7 @@ CLOSE_REVOKED = 4401
 CLOSE_REPLACED = 4409
 RETRY_DELAY = 1.0  # seconds before a batch the server could not store goes out again
 STABLE_SESSION = 5.0  # seconds a connection must last before the backoff starts over
+PING = dumps({"type": "ping"})
 
 
 class Connection:
@@ -57,6 +59,9 @@ class Connection:
             "user_agent_header": f"twinlink-edge/{__version__}",
         }
         self._inflight: set[int] = set()
+        # Round trips (`AsyncDevice._round_trip`) whose ping went out on this connection, in
+        # order: the server answers pings in order, and a pong carries no id.
+        self._pings: deque[asyncio.Future[None]] = deque()
         self._since: float | None = None  # when the current connection was welcomed
         self._up: asyncio.Event | None = None
         self._handlers: dict[str, Callable[[JsonObject], None]] = {
@@ -66,7 +71,7 @@ class Connection:
             "desired": self._on_desired,
             "reported_ack": self._on_reported_ack,
             "welcome": self._on_welcome,
-            "pong": lambda msg: None,
+            "pong": self._on_pong,
         }
 
     def start(self) -> None:
@@ -143,6 +148,10 @@ class Connection:
         self.connected = False
         if self._up is not None:
             self._up.clear()
+        # A ping lost with its connection goes out again on the next one, after what waits
+        # there: a round trip counts only when it was made on one connection.
+        self.device._control.extend(self._pings)
+        self._pings.clear()
 
     async def _session(self, ws: ClientConnection) -> None:
         await asyncio.wait_for(self._welcome(ws), self.connect_timeout)
@@ -191,12 +200,16 @@ class Connection:
         while True:
             work.clear()
             while dev._control:
-                text = dev._control.popleft()
+                item = dev._control.popleft()
+                if isinstance(item, asyncio.Future) and item.done():
+                    continue  # a round trip that stopped waiting
                 try:
-                    await ws.send(text)
+                    await ws.send(item if isinstance(item, str) else PING)
                 except BaseException:
-                    dev._control.appendleft(text)
+                    dev._control.appendleft(item)
                     raise
+                if not isinstance(item, str):
+                    self._pings.append(item)
             while (report := dev._reports.next_unsent()) is not None:
                 await ws.send(report)
             while len(self._inflight) < self.window:
@@ -291,6 +304,14 @@ class Connection:
             log.warning("a desired message without properties: %.200s", msg)
             return
         self._desired(msg["properties"], msg.get("version"), always=True)
+
+    def _on_pong(self, msg: JsonObject) -> None:
+        if not self._pings:
+            log.debug("a pong for no ping")
+            return
+        fut = self._pings.popleft()
+        if not fut.done():
+            fut.set_result(None)
 
     def _on_reported_ack(self, msg: JsonObject) -> None:
         dev = self.device

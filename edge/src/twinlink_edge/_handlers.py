@@ -10,9 +10,11 @@ import asyncio
 import functools
 import inspect
 import logging
+import time
 from collections import OrderedDict, deque
 from typing import Any, Callable, TypeVar
 
+from ._inbox import HeldCommand, Inbox
 from ._protocol import JsonObject, dumps
 
 log = logging.getLogger("twinlink_edge")
@@ -38,12 +40,15 @@ async def call(handler: Callable[..., Any], *args: Any) -> Any:
 
 class Dispatcher:
     """Runs command handlers (each command in its own task) and desired-property handlers
-    (one at a time, in arrival order). Messages for the server go through `send`."""
+    (one at a time, in arrival order). Messages for the server go through `send`. With an
+    `inbox`, commands without a handler of their own wait there until the program takes
+    them (`take`), instead of going to `fallback`."""
 
     def __init__(self, send: Callable[[str], None]) -> None:
         self._send = send
         self.commands: dict[str, CommandHandler] = {}
         self.fallback: AnyCommandHandler | None = None
+        self.inbox: Inbox | None = None
         self.desired_handlers: list[DesiredHandler] = []
         self._tasks: set[asyncio.Future[Any]] = set()
         self._results: OrderedDict[Any, str | None] = OrderedDict()  # id -> result (None: running)
@@ -67,18 +72,51 @@ class Dispatcher:
         if not isinstance(cid, (str, int)) or isinstance(cid, bool):
             log.warning("a command without an id: %.200s", msg)
             return
-        self._send(dumps({"type": "delivered", "id": cid}))
+        if self.inbox is not None and cid in self.inbox:
+            return  # sent again (after a reconnect) while it waits to be taken
         if cid in self._results:
+            self._send(dumps({"type": "delivered", "id": cid}))
             done = self._results[cid]
             if done is not None:
                 self._send(done)
             return
-        self._results[cid] = None
-        while len(self._results) > _REMEMBERED_COMMANDS:
-            self._results.popitem(last=False)
         name = str(msg.get("name", ""))
         args = msg.get("args")
-        self._spawn(self._run(cid, name, args if isinstance(args, dict) else {}))
+        args = dict(args) if isinstance(args, dict) else {}
+        if self.inbox is not None and name not in self.commands:
+            self.inbox.hold(HeldCommand(cid, name, args, time.time_ns()))
+            return
+        self._send(dumps({"type": "delivered", "id": cid}))
+        self._remember(cid, None)
+        self._spawn(self._run(cid, name, args))
+
+    def _remember(self, cid: Any, result: str | None) -> None:
+        """Keep a command's result (None: still running) for when it arrives again."""
+        self._results[cid] = result
+        while len(self._results) > _REMEMBERED_COMMANDS:
+            self._results.popitem(last=False)
+
+    def take(self) -> list[HeldCommand]:
+        """The commands waiting in the inbox, taken by the program: each is answered
+        `delivered`, then `succeeded` (taking it is all a program without handlers does)."""
+        taken = self.inbox.take() if self.inbox is not None else []
+        for command in taken:
+            self._send(dumps({"type": "delivered", "id": command.id}))
+            self._answer(command.id, {"status": "succeeded"})
+        return taken
+
+    def refuse_held(self, reason: str) -> int:
+        """Answer every command still in the inbox `failed` with `reason`; how many."""
+        held = self.inbox.take() if self.inbox is not None else []
+        for command in held:
+            log.warning("command %r (%s) %s", command.name, command.id, reason)
+            self._answer(command.id, {"status": "failed", "error": reason})
+        return len(held)
+
+    def _answer(self, cid: Any, answer: JsonObject) -> None:
+        text = dumps({"type": "result", "id": cid, **answer})
+        self._remember(cid, text)
+        self._send(text)
 
     async def _run(self, cid: Any, name: str, args: JsonObject) -> None:
         answer: JsonObject = {"type": "result", "id": cid, "status": "failed"}

@@ -8,12 +8,13 @@ import logging
 import os
 import threading
 from collections import deque
-from typing import Any, Callable, TypeVar
+from typing import Any, Callable, TypeVar, Union
 
 from ._batcher import Batcher, check_options
 from ._buffer import Buffer, DiskBuffer, MemoryBuffer
 from ._connection import Connection
 from ._handlers import AnyCommandHandler, DesiredHandler, Dispatcher
+from ._inbox import NOT_READ
 from ._protocol import (
     Ack,
     BufferFull,
@@ -27,6 +28,8 @@ from ._reports import Reports
 log = logging.getLogger("twinlink_edge")
 
 F = TypeVar("F", bound=Callable[..., Any])
+# A message for the server, or a round trip waiting to send its ping (see `_round_trip`).
+Control = Union[str, "asyncio.Future[None]"]
 
 
 class AsyncDevice:
@@ -120,7 +123,8 @@ class AsyncDevice:
         self._pending: asyncio.Event | None = None  # samples wait to be sealed
         self._space: asyncio.Event | None = None  # room in the buffer
         self._flush_waiters: list[tuple[int, asyncio.Future[None]]] = []
-        self._control: deque[str] = deque()  # delivered/result messages to send
+        self._control: deque[Control] = deque()  # delivered/result messages, pings
+        self._unconfirmed = False  # messages in _control since the last round trip began
         self._reports = Reports()
         self._tasks: list[asyncio.Task[None]] = []
         self._closed = False
@@ -147,16 +151,13 @@ class AsyncDevice:
 
     async def close(self, timeout: float | None = None) -> None:
         """Wait up to `timeout` (default `close_timeout`) seconds for the acks of everything
-        added, then disconnect. A disk buffer keeps what is still unacknowledged."""
+        added and for the server to take the command answers, then disconnect. A disk buffer
+        keeps what is still unacknowledged. Commands the program never took (compat's
+        `receive()`) are answered `failed`, "not read by the device"."""
         if self._closed:
             return
         if self._loop is not None:
-            try:
-                await self.flush(self.close_timeout if timeout is None else timeout)
-            except TimeoutError:
-                where = "kept on disk" if isinstance(self._batcher.buffer, DiskBuffer) else "lost"
-                n = self._batcher.buffered_samples
-                log.warning("closing with %d samples unacknowledged (%s)", n, where)
+            await self._finish(self.close_timeout if timeout is None else timeout)
         self._closed = True
         for task in self._tasks:
             task.cancel()
@@ -169,6 +170,26 @@ class AsyncDevice:
         if self._space is not None:
             self._space.set()
         self._batcher.close()
+
+    async def _finish(self, timeout: float) -> None:
+        """The last words before a close, within `timeout` seconds."""
+        assert self._loop is not None
+        deadline = self._loop.time() + timeout
+        self._dispatcher.refuse_held(NOT_READ)
+        try:
+            await self.flush(timeout)
+        except TimeoutError:
+            where = "kept on disk" if isinstance(self._batcher.buffer, DiskBuffer) else "lost"
+            n = self._batcher.buffered_samples
+            log.warning("closing with %d samples unacknowledged (%s)", n, where)
+        if not self._unconfirmed:
+            return
+        # The server handles messages in order: once it answers a ping sent after the
+        # command answers, it has them all.
+        try:
+            await self._round_trip(max(0.0, deadline - self._loop.time()))
+        except TimeoutError:
+            log.warning("closing before the server confirmed the command answers")
 
     def _close_unstarted(self) -> None:
         """Close a device that never started (nothing runs: only the buffer to close)."""
@@ -267,6 +288,22 @@ class AsyncDevice:
         except asyncio.TimeoutError:
             raise TimeoutError(f"no reported_ack after {timeout} s") from None
 
+    async def _round_trip(self, timeout: float | None = None) -> None:
+        """Send a ping and wait for its pong. The server handles a connection's messages in
+        order and sends its own in order, so then it has handled everything sent before (the
+        command answers), and everything it sent before has been read: the commands queued
+        for this device follow its welcome. `TimeoutError` after `timeout` seconds."""
+        loop = self._started()._loop
+        assert loop is not None
+        fut: asyncio.Future[None] = loop.create_future()
+        self._send_control(fut)
+        self._unconfirmed = False
+        try:
+            await asyncio.wait_for(fut, timeout)
+        except asyncio.TimeoutError:
+            self._unconfirmed = True
+            raise TimeoutError(f"no answer to a ping after {timeout} s") from None
+
     # ---- state -------------------------------------------------------------------------
 
     @property
@@ -331,8 +368,9 @@ class AsyncDevice:
         else:
             self._pending.set()
 
-    def _send_control(self, text: str) -> None:
-        self._control.append(text)
+    def _send_control(self, item: Control) -> None:
+        self._control.append(item)
+        self._unconfirmed |= isinstance(item, str)
         if self._work is not None:
             self._work.set()
 

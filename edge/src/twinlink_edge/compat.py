@@ -17,18 +17,22 @@ for topic, partition_msg in dtMessaging.receive().items():
 The server URL and the device token come from `TWINLINK_URL` and `TWINLINK_DEVICE_TOKEN`, or
 from the `url` and `token` arguments. The token names the device: `device_id` is only checked
 against it (a warning when they differ). `topic` is the key of what `receive()` returns; the
-samples go to the stream `stream` (default `telemetry`)."""
+samples go to the stream `stream` (default `telemetry`).
+
+As with the thesis's Kafka client, `Connect()` returns connected, with the commands queued for
+the device while it was away already received, so the listing's single `receive()` finds
+them. A command counts as delivered only when `receive()` hands it over; one never handed over
+is answered failed ("not read by the device") when the script closes or exits."""
 
 from __future__ import annotations
 
 import logging
 import os
-import threading
 import time
-from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
+from ._inbox import HeldCommand, Inbox
 from ._protocol import JsonObject, dumps
 from .sync import Device
 
@@ -37,6 +41,7 @@ __all__ = ["Connect", "Message"]
 log = logging.getLogger("twinlink_edge")
 
 IDLE_WAIT = 0.05  # seconds an idle receive() waits, so a polling loop does not spin
+CONNECT_TIMEOUT = 10.0  # seconds Connect() waits for the connection, unless told otherwise
 
 
 @dataclass(frozen=True)
@@ -56,10 +61,14 @@ class Message:
 
 
 class Connect:
-    """The thesis's `Connect`: `add_to_message` sets values in the pending message, `send`
-    sends it as one sample stamped with the device clock (the values stay for the next
-    message; later calls update them), `receive` returns the commands that arrived since the
-    last call as `{topic: [Message, ...]}` (each command is answered `succeeded` at once)."""
+    """The thesis's `Connect`: connects (and returns once connected), `add_to_message` sets
+    values in the pending message, `send` sends it as one sample stamped with the device clock
+    (the values stay for the next message; later calls update them), `receive` hands over the
+    commands that arrived since the last call as `{topic: [Message, ...]}` (each is answered
+    `delivered`, then `succeeded`, as it is handed over).
+
+    `ConnectionError` when no connection is made within `connect_timeout` seconds (default
+    10), with the reason (an unknown token, a server that does not answer)."""
 
     def __init__(
         self,
@@ -71,6 +80,7 @@ class Connect:
         token: str | None = None,
         stream: str = "telemetry",
         flush_interval: float = 0.0,
+        connect_timeout: float = CONNECT_TIMEOUT,
         **options: Any,
     ) -> None:
         url = url or os.environ.get("TWINLINK_URL")
@@ -81,15 +91,38 @@ class Connect:
         self.topic = topic
         self.receiving_partition = receiving_partition
         self.message: dict[str, Any] = {}
-        self._inbox: deque[Message] = deque()
-        self._cond = threading.Condition()
         self._offset = 0
         self._idle = False  # the last receive() returned nothing
         self._sent = False  # send() was called since the last receive()
-        self._checked_id = device_id is None
-        self.device = Device(url, token, stream=stream, flush_interval=flush_interval, **options)
-        self.device.on_any_command(self._on_command)
+        self.device = Device(
+            url,
+            token,
+            stream=stream,
+            flush_interval=flush_interval,
+            connect_timeout=connect_timeout,
+            **options,
+        )
+        # Commands without a handler of their own wait until receive() takes them.
+        self.device.aio._dispatcher.inbox = Inbox()
         self.device.start()
+        try:
+            self._connect(connect_timeout)
+        except BaseException:
+            self.device.close(0)
+            raise
+        self._check_id()
+
+    def _connect(self, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        if self.device.wait_connected(timeout):
+            # The queued commands follow the welcome: after a round trip they are here.
+            try:
+                self.device._call(self.device.aio._round_trip(deadline - time.monotonic()))
+                return
+            except TimeoutError:
+                pass
+        reason = self.device.aio.last_error or f"{self.device.aio.url} did not answer"
+        raise ConnectionError(f"not connected within {timeout:g} s: {reason}")
 
     def add_to_message(self, name: str, value: Any) -> None:
         """Set `name` in the pending message (a new attribute, or an update of one)."""
@@ -97,40 +130,58 @@ class Connect:
 
     def send(self) -> None:
         """Send the pending message as one sample, stamped now."""
-        self._check_id()
         if not self.message:
             log.warning("send(): the message is empty; add_to_message() first")
             return
         self.device.add(dict(self.message), time.time_ns())
-        with self._cond:
-            self._sent = True
+        self._sent = True
 
     def receive(self, timeout_ms: int | None = None) -> dict[str, list[Message]]:
         """The commands received since the last call, as `{topic: [Message, ...]}`, or `{}`.
+        Each counts as delivered (and succeeded) once handed over here.
 
         Returns at once, except when the previous call also returned nothing and nothing was
         sent in between (a loop waiting for a command): then it waits up to 50 ms for one, so
         such a loop does not spin. `timeout_ms` sets the wait instead."""
-        self._check_id()
-        with self._cond:
-            if not self._inbox:
-                if timeout_ms is not None:
-                    wait = max(0.0, timeout_ms / 1000)
-                else:
-                    wait = IDLE_WAIT if self._idle and not self._sent else 0.0
-                if wait:
-                    self._cond.wait_for(lambda: bool(self._inbox), wait)
-            messages = list(self._inbox)
-            self._inbox.clear()
-            self._idle = not messages
-            self._sent = False
+        if timeout_ms is not None:
+            wait = max(0.0, timeout_ms / 1000)
+        else:
+            wait = IDLE_WAIT if self._idle and not self._sent else 0.0
+        taken = self.device._call(self._take(wait))
+        messages = [self._message(command) for command in taken]
+        self._idle = not messages
+        self._sent = False
         return {self.topic: messages} if messages else {}
+
+    async def _take(self, wait: float) -> list[HeldCommand]:
+        dispatcher = self.device.aio._dispatcher
+        assert dispatcher.inbox is not None
+        await dispatcher.inbox.wait(wait)
+        return dispatcher.take()
+
+    def _message(self, command: HeldCommand) -> Message:
+        name, args = command.name, command.args
+        value = dumps({"name": name, "args": args}) if args else name
+        self._offset += 1
+        return Message(
+            topic=self.topic,
+            partition=self.receiving_partition,
+            offset=self._offset,
+            timestamp=command.arrived_ns // 1_000_000,
+            key=self.device_id.encode() if self.device_id else None,
+            value=value.encode(),
+            name=name,
+            args=dict(args),
+        )
 
     def flush(self, timeout: float | None = None) -> None:
         """Wait until every message sent so far is acknowledged by the server."""
         self.device.flush(timeout)
 
     def close(self, timeout: float | None = None) -> None:
+        """Answer the commands never handed over `failed` ("not read by the device"), wait
+        up to `timeout` seconds (default 10) for the server to have them and every message
+        sent, and disconnect. A script that never calls it is closed at exit."""
         self.device.close(timeout)
 
     def __enter__(self) -> Connect:
@@ -139,31 +190,7 @@ class Connect:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    async def _on_command(self, name: str, args: JsonObject) -> None:
-        value = dumps({"name": name, "args": args}) if args else name
-        with self._cond:
-            self._offset += 1
-            self._inbox.append(
-                Message(
-                    topic=self.topic,
-                    partition=self.receiving_partition,
-                    offset=self._offset,
-                    timestamp=time.time_ns() // 1_000_000,
-                    key=self.device_id.encode() if self.device_id else None,
-                    value=value.encode(),
-                    name=name,
-                    args=dict(args),
-                )
-            )
-            self._cond.notify_all()
-
     def _check_id(self) -> None:
-        if self._checked_id:
-            return
         name = self.device.device_name
-        if name is not None:
-            self._checked_id = True
-            if name != self.device_id:
-                log.warning(
-                    "device_id %r, but the token belongs to device %r", self.device_id, name
-                )
+        if self.device_id is not None and name != self.device_id:
+            log.warning("device_id %r, but the token belongs to device %r", self.device_id, name)
