@@ -4,6 +4,7 @@ route, API tokens, and logins (login, logout, me, disabled users, passwords)."""
 from __future__ import annotations
 
 import re
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -22,6 +23,7 @@ from tests.integration._util import (
     twin_doc,
     unique,
 )
+from twinlink.auth.service import MAX_TOKEN_LIFETIME_S
 
 # The routes the policy lets through without a token. Everything else needs one.
 NO_TOKEN_OK = {("GET", "/healthz"), ("POST", "/api/v1/auth/login")}
@@ -244,6 +246,23 @@ def test_token_expiry_is_set_from_expires_in_s(server: Server) -> None:
             assert_problem(c.post("/api/v1/tokens", json={"name": "x", "expires_in_s": bad}), 422)
         listed = {t["id"]: t for t in c.get("/api/v1/tokens").json()["tokens"]}
     assert listed[body["id"]]["expires"] == body["expires"]
+
+
+def test_token_lifetimes_and_ids_beyond_their_range_are_422_not_500(server: Server) -> None:
+    # Issue 13, item 2: 7.5e9 s overflowed the int64 of expiry ns (a 500 with a traceback).
+    with server.admin as admin:
+        for path in ("/api/v1/tokens", "/api/v1/users/admin/tokens"):
+            for lifetime in (7_500_000_000, MAX_TOKEN_LIFETIME_S + 1, 2**63, 10**30, 1e400):
+                body = f'{{"name": "long", "expires_in_s": {lifetime}}}'
+                r = admin.post(path, content=body, headers={"Content-Type": "application/json"})
+                detail = assert_problem(r, 422)["detail"]
+                assert "expires_in_s" in detail or "64 bits" in detail or "JSON" in detail
+            r = admin.post(path, json={"name": "century", "expires_in_s": MAX_TOKEN_LIFETIME_S})
+            assert r.status_code == 201, r.text
+            assert parse_time(r.json()["expires"]) > time.time() + 99 * 365 * 86400
+        for token_id in ("9223372036854775808", "-1", "0", "1e3", "1.5", "9" * 5000):
+            assert_problem(admin.delete(f"/api/v1/tokens/{token_id}"), 422)
+        assert_problem(admin.delete(f"/api/v1/tokens/{2**63 - 1}"), 404)  # in range: no token
 
 
 def test_login_session_expires_after_the_session_ttl(server: Server) -> None:

@@ -9,13 +9,15 @@ from fastapi import APIRouter, Query
 from pydantic import AfterValidator, BaseModel, Field
 
 from twinlink.api.deps import Admin, Auth, Caller
+from twinlink.api.params import RowId
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.auth.rights import Principal
-from twinlink.auth.service import AuthError, ListedToken
+from twinlink.auth.service import MAX_TOKEN_LIFETIME_S, AuthError, ListedToken
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.registry.build import human_time, human_time_or_none
 from twinlink.store.records import ApiToken, User
 
-router = APIRouter(prefix="/api/v1", tags=["auth"])
+router = APIRouter(prefix="/api/v1", tags=["auth"], route_class=ExactJsonRoute)
 
 _GROUP = r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$"
 
@@ -38,7 +40,10 @@ class Login(BaseModel):
 class NewToken(BaseModel):
     name: str = Field(min_length=1, max_length=128, description="what the token is for")
     expires_in_s: int | None = Field(
-        None, gt=0, description="lifetime in seconds; none = no expiry"
+        None,
+        gt=0,
+        le=MAX_TOKEN_LIFETIME_S,
+        description="lifetime in seconds, at most 100 years; none = no expiry",
     )
 
 
@@ -143,7 +148,7 @@ async def create_token_for(username: str, body: NewToken, _: Admin, auth: Auth) 
 
 
 @router.delete("/tokens/{token_id}", summary="Revoke an API token")
-async def revoke_token(token_id: int, caller: Caller, auth: Auth) -> dict[str, Any]:
+async def revoke_token(token_id: RowId, caller: Caller, auth: Auth) -> dict[str, Any]:
     await auth.revoke_token(caller, token_id)
     return {"revoked": token_id}
 

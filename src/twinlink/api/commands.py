@@ -11,11 +11,12 @@ from pydantic import BaseModel, Field
 from twinlink.api.deps import Caller
 from twinlink.api.devices import ThisDevice
 from twinlink.api.responses import JSONAnswer
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.commands import CommandService
 from twinlink.commands.model import STATES
 from twinlink.commands.service import MAX_LIST, MAX_TIMEOUT_S
 
-router = APIRouter(prefix="/api/v1", tags=["commands"])
+router = APIRouter(prefix="/api/v1", tags=["commands"], route_class=ExactJsonRoute)
 MAX_POLL_S = 60.0
 
 

@@ -8,9 +8,10 @@ from fastapi import APIRouter, Body, Depends, Request, Response
 
 from twinlink.api.deps import Caller
 from twinlink.api.responses import JSONAnswer
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.connectors.service import ConnectorService
 
-router = APIRouter(prefix="/api/v1", tags=["connectors"])
+router = APIRouter(prefix="/api/v1", tags=["connectors"], route_class=ExactJsonRoute)
 
 
 async def connector_service(request: Request) -> ConnectorService:

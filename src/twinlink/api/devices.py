@@ -9,12 +9,13 @@ from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 from pydantic import BaseModel, Field
 
 from twinlink.api.deps import Caller
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.auth.devices import DEVICE_NAME, DeviceService
 from twinlink.auth.service import AuthError
 from twinlink.registry.build import human_time, human_time_or_none
 from twinlink.store.records import Device
 
-router = APIRouter(prefix="/api/v1", tags=["devices"])
+router = APIRouter(prefix="/api/v1", tags=["devices"], route_class=ExactJsonRoute)
 _device_bearer = HTTPBearer(
     auto_error=False, scheme_name="DeviceToken", description="A device token: `tld_...`"
 )

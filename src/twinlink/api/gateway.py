@@ -10,14 +10,16 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Body, Depends, Query, Request, Response
 
 from twinlink.api.deps import Caller
+from twinlink.api.params import HttpStatus, OlderThan, UnixSeconds
 from twinlink.api.responses import JSONAnswer
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.domain.errors import ForbiddenError, InvalidInputError
 from twinlink.gateway import health
 from twinlink.gateway.accounts import ServiceAccounts
 from twinlink.gateway.service import GatewayService
 from twinlink.gateway.services import Service
 
-router = APIRouter(prefix="/api/v1", tags=["gateway"])
+router = APIRouter(prefix="/api/v1", tags=["gateway"], route_class=ExactJsonRoute)
 
 
 async def gateway_service(request: Request) -> GatewayService:
@@ -122,11 +124,11 @@ async def audit(
     service: str | None = None,
     user: Annotated[str | None, Query(description="the caller's username")] = None,
     method: str | None = None,
-    status: int | None = None,
-    since: Annotated[float | None, Query(description="Unix time (s)")] = None,
-    until: Annotated[float | None, Query(description="Unix time (s)")] = None,
+    status: HttpStatus = None,
+    since: UnixSeconds = None,
+    until: UnixSeconds = None,
     limit: Annotated[int, Query(ge=1, le=10_000)] = 100,
-    before: Annotated[int | None, Query(description="entries older than this id")] = None,
+    before: OlderThan = None,
 ) -> dict[str, Any]:
     if not caller.is_admin:
         if twin is None:
@@ -139,8 +141,8 @@ async def audit(
         "caller": user,
         "method": method.upper() if method else None,
         "status": status,
-        "since_ns": None if since is None else int(since * 1e9),
-        "until_ns": None if until is None else int(until * 1e9),
+        "since_ns": None if since is None else round(since * 1e9),
+        "until_ns": None if until is None else round(until * 1e9),
     }
     entries = await gateway.store.list_audit(filters, limit, before)
     return {

@@ -7,12 +7,14 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Body, Depends, Query, Request, Response
 
 from twinlink.api.deps import Caller
+from twinlink.api.params import OlderThan
 from twinlink.api.responses import JSONAnswer
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.processors.fmus import FmuService, fmu_view
 from twinlink.processors.service import ProcessorService
 from twinlink.processors.spec import ProcessorSpec
 
-router = APIRouter(prefix="/api/v1", tags=["processors"])
+router = APIRouter(prefix="/api/v1", tags=["processors"], route_class=ExactJsonRoute)
 
 
 async def processor_service(request: Request) -> ProcessorService:
@@ -130,7 +132,7 @@ async def processor_events(
     caller: Caller,
     processors: Processors,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
-    before: Annotated[int | None, Query(description="only events with a smaller id")] = None,
+    before: OlderThan = None,
     kind: Annotated[str | None, Query(description="only events of this kind")] = None,
 ) -> dict[str, Any]:
     events = await processors.events(caller, slug, name, limit, before, kind)

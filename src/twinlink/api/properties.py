@@ -10,9 +10,10 @@ from fastapi import APIRouter, Body, Depends, Request
 from twinlink.api.deps import Caller
 from twinlink.api.devices import ThisDevice
 from twinlink.api.responses import JSONAnswer
+from twinlink.api.routing import ExactJsonRoute
 from twinlink.commands import PropertyService
 
-router = APIRouter(prefix="/api/v1", tags=["properties"])
+router = APIRouter(prefix="/api/v1", tags=["properties"], route_class=ExactJsonRoute)
 
 
 async def property_service(request: Request) -> PropertyService:

@@ -37,6 +37,8 @@ log = logging.getLogger("twinlink.auth")
 ADMIN_USERNAME = "admin"
 TOKEN_CACHE_S = 30.0
 TOKEN_CACHE_LIMIT = 10_000
+# Expiry times are int64 ns (they end in 2262); a century is more than any token needs.
+MAX_TOKEN_LIFETIME_S = 100 * 365 * 24 * 3600
 
 
 class AuthError(Exception):
@@ -169,6 +171,10 @@ class AuthService:
         if kind == "session":
             expires = now_ns() + self.session_ttl_ns
         elif ttl_s is not None:
+            if not 0 < ttl_s <= MAX_TOKEN_LIFETIME_S:
+                raise InvalidInputError(
+                    f"a token's lifetime is 1 to {MAX_TOKEN_LIFETIME_S} s (100 years)"
+                )
             expires = now_ns() + ttl_s * 1_000_000_000
         token = new_token()
         record = await self._store_token(user.id, name, token, kind, expires)

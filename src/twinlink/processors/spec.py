@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
 
 PROCESSOR_NAME = STREAM_NAME
+MAX_SPACING_S = 24 * 3600.0  # a day; a rate limit longer than that is a unit mistake
 
 
 class InputMap(BaseModel):
@@ -35,13 +36,22 @@ class Rates(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     min_input_spacing_s: float = Field(
-        0.0, ge=0, description="input samples closer than this to the last one used are skipped"
+        0.0,
+        ge=0,
+        le=MAX_SPACING_S,
+        description="input samples closer than this to the last one used are skipped",
     )
     min_step_spacing_s: float = Field(
-        0.0, ge=0, description="shortest time between steps, for blueprints that step"
+        0.0,
+        ge=0,
+        le=MAX_SPACING_S,
+        description="shortest time between steps, for blueprints that step",
     )
     min_output_spacing_s: float = Field(
-        0.0, ge=0, description="output samples closer than this to the last one sent are dropped"
+        0.0,
+        ge=0,
+        le=MAX_SPACING_S,
+        description="output samples closer than this to the last one sent are dropped",
     )
     max_batch: int = Field(
         10_000, ge=1, le=1_000_000, description="most samples handed to the blueprint at once"
