@@ -1,14 +1,18 @@
 """The gateway's access rules end to end: who may call a service (401, 403, 404, 405 in the
-paper's order), the default twin, services from the DT document, the registry API and its
-rights, write-only secrets, service accounts, the audit log and the metrics."""
+paper's order; a twin the caller may not see is the same 404 as a missing one), the default
+twin, services from the DT document, the registry API and its rights, write-only secrets,
+service accounts, the audit log and the metrics."""
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import httpx
 import pytest
 from prometheus_client.parser import text_string_to_metric_families
+from websockets.exceptions import InvalidStatus
+from websockets.sync.client import connect
 
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors
@@ -21,6 +25,7 @@ from tests.integration._gateway import (
     user_with_role,
 )
 from tests.integration._gateway import server as server  # module fixture
+from tests.integration._live import ws_url
 from tests.integration._upstream import Upstream
 from tests.integration._upstream import upstream as upstream  # module fixture
 from tests.integration._util import apply, assert_problem, twin_doc, unique
@@ -74,14 +79,58 @@ def test_the_checks_come_in_the_papers_order(server: Server, upstream: Upstream,
         gateway_problem(r, 405)
         assert r.headers["allow"] == "GET"
     with server.client(stranger) as c:
-        # No role: 403 whether the twin exists or not, so the answer reveals nothing.
+        # No role on a twin whose public part anyone may read: 403. No such twin: 404, the
+        # answer for a twin the caller may not see too (test_hidden_twins_are_not_found).
         assert gateway_problem(c.get(echo), 403)["detail"]
-        gateway_problem(c.get(nowhere), 403)
+        gateway_problem(c.get(nowhere), 404)
     with server.admin as admin:
         gateway_problem(admin.get(nowhere), 404)
         gateway_problem(admin.get(path(twin, "no-such-service")), 404)
     seen = upstream.requests_to(marker)
     assert sorted(s.method for s in seen) == ["DELETE", "GET", "HEAD", "PATCH", "POST", "PUT"]
+
+
+def _hidden_answers(c: httpx.Client, slug: str, service: str) -> list[tuple[str, int, str]]:
+    """(route, status, detail with the slug taken out) of every route that names the twin's
+    services: the registry API, service accounts, and calls through the gateway."""
+    api = f"/api/v1/twins/{slug}"
+    requests = [
+        ("list", c.get(f"{api}/services")),
+        ("get", c.get(f"{api}/services/{service}")),
+        ("health", c.get(f"{api}/services/{service}/health")),
+        ("create", c.post(f"{api}/services", json={"name": "x", "base_url": "http://a.b/"})),
+        ("change", c.patch(f"{api}/services/{service}", json={"description": "x"})),
+        ("delete", c.delete(f"{api}/services/{service}")),
+        ("accounts", c.get(f"{api}/service-accounts")),
+        ("call", c.get(path(slug, service, "echo/x"))),
+        ("call post", c.post(path(slug, service, "echo/x"), content=b"x")),
+    ]
+    out = []
+    for route, r in requests:
+        body = assert_problem(r, r.status_code)
+        out.append((route, r.status_code, body["detail"].replace(slug, "<slug>")))
+    return out
+
+
+def test_hidden_twins_are_not_found_like_missing_ones(server: Server, upstream: Upstream) -> None:
+    # Issue 13, item 10: these routes answered 403 for both, where the rest of the API says
+    # 404 (a twin the caller may not see is not admitted to exist).
+    hidden = new_twin(server, privacy="private")
+    with server.admin as admin:
+        add_service(admin, hidden, "echo", upstream.base("open"))
+    _, stranger = user_with_role(server, hidden, None)
+    missing = unique("no-such-twin")
+    for token in (stranger, server.admin_token):
+        with server.client(token) as c:
+            gone = _hidden_answers(c, missing, "echo")
+            assert {status for _, status, _ in gone} == {404}, gone
+            if token == stranger:
+                assert _hidden_answers(c, hidden, "echo") == gone
+    headers = {"Authorization": f"Bearer {stranger}"}
+    for slug in (hidden, missing):
+        with pytest.raises(InvalidStatus) as refused:
+            connect(ws_url(server, path(slug, "echo", "ws")), additional_headers=headers).close()
+        assert refused.value.response.status_code == 404
 
 
 def test_the_default_twin_has_short_paths(server: Server, upstream: Upstream) -> None:
@@ -270,6 +319,28 @@ def test_the_audit_log_records_every_answer(server: Server, upstream: Upstream) 
         ]  # fmt: skip
         everyone = admin.get("/api/v1/gateway/audit", params={"limit": 1000}).json()["entries"]
         assert {e["twin"] for e in everyone} > {slug}
+
+
+def test_audit_times_ids_and_statuses_have_a_range(server: Server, upstream: Upstream) -> None:
+    # Issue 13, item 2: each of these was a 500 (an int64 overflow in SQLite, or int(nan)).
+    slug = new_twin(server)
+    with server.admin as admin:
+        add_service(admin, slug, "echo", upstream.base("open"))
+        admin.get(path(slug, "echo", "echo/timed"))
+        audit = "/api/v1/gateway/audit"
+        for name, value in [
+            ("since", "1e10"), ("until", "1e10"), ("since", "nan"), ("until", "inf"),
+            ("since", "-1"), ("before", "9223372036854775808"), ("before", "0"),
+            ("status", "9223372036854775808"), ("status", "99"), ("limit", "1e400"),
+        ]:  # fmt: skip
+            detail = assert_problem(admin.get(audit, params={name: value}), 422)["detail"]
+            assert f"query.{name}" in detail, detail
+        # In range, they still select: the entry is between 2000 and the last second of 2262.
+        found = admin.get(audit, params={"twin": slug, "since": 946684800, "until": 9223372036})
+        assert [e["path"] for e in found.json()["entries"]] == ["/echo/timed"], found.text
+        later = admin.get(audit, params={"twin": slug, "since": time.time() + 3600})
+        assert later.json()["entries"] == []
+        assert admin.get(audit, params={"before": 2**63 - 1}).status_code == 200
 
 
 def test_metrics_count_the_requests_of_each_service(server: Server, upstream: Upstream) -> None:

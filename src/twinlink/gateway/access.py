@@ -1,5 +1,6 @@
 """Who is calling and which service they may reach: the checks every gateway request and
-WebSocket goes through first, in the paper's order (401, 403, 404)."""
+WebSocket goes through first, in the paper's order (401, 403, 404), except that a twin the
+caller may not see is 404 before anything else, as everywhere in the API."""
 
 from __future__ import annotations
 
@@ -34,7 +35,8 @@ def bearer(scope: Scope) -> str | None:
 async def resolve(
     gateway: GatewayService, principal: Principal, route: paths.Route, need: str
 ) -> Service:
-    """401 and 403 and 404, in that order, for the service a route names."""
+    """401, then 404 for a twin the caller may not see (as for an unknown one), 403 for a
+    missing role, 404 for an unknown service, in that order, for the service a route names."""
     slug = route.twin or gateway.default_twin
     if slug is None:
         raise GatewayProblem(

@@ -73,13 +73,11 @@ class GatewayService:
         return services
 
     async def twin_and_role(self, principal: Principal, slug: str) -> tuple[TwinRecord, str | None]:
-        """The twin and the caller's role; 403 for a twin the caller has no role on (whether
-        it exists or not, so the answer reveals nothing), 404 for an unknown twin otherwise."""
-        twin = await self.registry.get_twin(slug)
-        role = None if twin is None else await self.registry.role_of(principal, twin)
-        if twin is None or not has_role(principal, role, "viewer"):
-            if principal.is_admin:
-                raise NotFoundError(f"no twin {slug!r}")
+        """The twin and the caller's role. As everywhere in the API, a twin the caller may not
+        see is not admitted to exist: the same 404 as an unknown slug. One the caller sees
+        (its public part) without a role on it is 403: its services need a role."""
+        twin, role = await self.registry.require_twin(principal, slug)
+        if not has_role(principal, role, "viewer"):
             raise ForbiddenError(f"using the services of {slug!r} needs a role on that twin")
         return twin, role
 
