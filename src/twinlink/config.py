@@ -62,6 +62,11 @@ class Settings(BaseSettings):
         description="Serve /openapi.json without a token. The /docs page itself holds no data "
         "and always asks for a token before it loads the API description.",
     )
+    metrics_token: SecretStr | None = Field(
+        None,
+        description="A token that may read /metrics (and nothing else), for Prometheus's "
+        "bearer_token_file. Unset: only admins read /metrics.",
+    )
     log_level: Literal["debug", "info", "warning", "error"] = Field(
         "info", description="Log level: debug, info, warning or error."
     )

@@ -17,6 +17,7 @@ from tests.conftest import Server, start_server, stop_server
 from tests.integration._util import (
     apply,
     assert_problem,
+    make_user,
     twin_count,
     twin_doc,
     unique,
@@ -115,6 +116,45 @@ def test_metrics_are_prometheus_text(server: Server) -> None:
     with server.admin as admin:
         users = len(admin.get("/api/v1/users").json()["users"])
     assert _sample(text, "twinlink_users") == users
+
+
+def test_metrics_are_for_admins_and_the_metrics_token(
+    tmp_path: Path, servers: list[Server]
+) -> None:
+    # Issue 13, item 9: any signed-in user could read the labels of twins they cannot see.
+    metrics_token = "metrics-" + secrets.token_hex(16)
+    srv = start_server(
+        tmp_path,
+        extra_env={
+            "TWINLINK_METRICS_TOKEN": metrics_token,
+            "TWINLINK_LOG_LEVEL": "debug",
+            "TWINLINK_ACCESS_LOG": "true",
+        },
+    )
+    servers.append(srv)
+    hidden = unique("hidden")
+    with srv.admin as admin:
+        apply(admin, twin_doc(f"urn:{hidden}", slug=hidden, privacy="private"))
+        r = admin.post(f"/api/v1/twins/{hidden}/processors", json={
+            "name": "secret-proc", "blueprint": "expression",
+            "params": {"outputs": {"y": "x"}}})  # fmt: skip
+        assert r.status_code == 201, r.text
+        viewer = make_user(srv, unique("viewer"))
+        assert admin.get("/metrics").status_code == 200
+    with srv.client(metrics_token) as prometheus:
+        r = prometheus.get("/metrics")
+        assert r.status_code == 200 and "twinlink_http_requests_total" in r.text
+        assert hidden in r.text  # the labels a viewer must not read
+        # The metrics token reads the metrics and nothing else.
+        assert_problem(prometheus.get("/api/v1/twins"), 401)
+    with srv.client(viewer) as c:
+        assert hidden not in assert_problem(c.get("/metrics"), 403)["detail"]
+    with srv.client() as anonymous:
+        assert_problem(anonymous.get("/metrics"), 401)
+    with srv.client(metrics_token + "x") as wrong:
+        assert_problem(wrong.get("/metrics"), 401)
+    stop_server(srv)  # flush everything it would print
+    assert metrics_token not in srv.log()
 
 
 def test_keep_alive_requests_are_answered_promptly(server: Server) -> None:

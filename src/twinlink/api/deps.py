@@ -20,10 +20,10 @@ def services(request: Request) -> Any:
     return request.app.state.services
 
 
-async def optional_principal(
-    request: Request,
-    credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)],
-) -> Principal:
+Bearer = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
+
+
+async def optional_principal(request: Request, credentials: Bearer) -> Principal:
     """The caller, or ANONYMOUS when no token is sent. A token that is sent must be valid."""
     if credentials is None:
         if request.headers.get("authorization"):

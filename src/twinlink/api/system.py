@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import hashlib
+import hmac
 from typing import Any
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter, Depends, Request
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 from starlette.responses import Response
 
-from twinlink.api.deps import Caller
+from twinlink.api.deps import Bearer, optional_principal
 from twinlink.api.problems import problem
+from twinlink.auth.service import AuthError
+from twinlink.domain.errors import ForbiddenError
 
 router = APIRouter(tags=["system"])
 
@@ -25,8 +29,34 @@ async def healthz(request: Request) -> Any:
     return {"status": "ok", "version": request.app.version}
 
 
-@router.get("/metrics", summary="Prometheus metrics (text format)")
-async def metrics(request: Request, _: Caller) -> Response:
+async def metrics_reader(request: Request, credentials: Bearer) -> None:
+    """Admins, or whoever sends the metrics token (TWINLINK_METRICS_TOKEN, for Prometheus's
+    `bearer_token_file`). The metrics name twins, processors, services and connectors of
+    every user, so a signed-in user who is not an admin gets 403."""
+    expected = request.app.state.settings.metrics_token
+    if expected is not None and credentials is not None:
+        # Compared as digests, so the time taken says nothing about the token, not even
+        # its length.
+        sent = hashlib.sha256(credentials.credentials.encode()).digest()
+        wanted = hashlib.sha256(expected.get_secret_value().encode()).digest()
+        if hmac.compare_digest(sent, wanted):
+            return
+    caller = await optional_principal(request, credentials)
+    if caller.user is None:
+        raise AuthError("a token is required (an admin's, or the metrics token)")
+    if not caller.is_admin:
+        raise ForbiddenError(
+            "the metrics are for admins, or for the metrics token (TWINLINK_METRICS_TOKEN)"
+        )
+
+
+@router.get(
+    "/metrics",
+    summary="Prometheus metrics (text format): admins, or the metrics token "
+    "(TWINLINK_METRICS_TOKEN)",
+    dependencies=[Depends(metrics_reader)],
+)
+async def metrics(request: Request) -> Response:
     store = request.app.state.services.store
     request.app.state.metrics.twins.set(await store.count_twins())
     request.app.state.metrics.users.set(await store.count_users())
