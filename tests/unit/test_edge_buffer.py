@@ -175,3 +175,45 @@ def test_settings_are_checked() -> None:
         batcher(on_full="sometimes")
     with pytest.raises(ValueError, match="at least batch_size"):
         batcher(batch_size=100, max_samples=10)
+
+
+def test_durable_samples_are_in_the_file_before_add_returns(tmp_path: Path) -> None:
+    b, _ = batcher(DiskBuffer(tmp_path), durable=True, batch_size=10, max_samples=100)
+    for i in range(13):
+        b.add(sample(i), "telemetry" if i < 10 or i % 2 else "other", wait=False)
+    # The process dies here (nothing closed): another opening of the file has every sample,
+    # the 10 of the sealed batch in it and the 3 others held, none in both.
+    crashed = DiskBuffer(tmp_path)
+    try:
+        assert crashed.samples == 10 and len(crashed) == 1
+        held = crashed.held()
+        assert [s["values"]["i"] for _, s in held] == [10, 11, 12]
+        assert [stream for stream, _ in held] == ["other", "telemetry", "other"]
+        again, _ = batcher(crashed, batch_size=10, max_samples=100)
+        assert again.pending_samples == 3 and again.buffered_samples == 13
+        again.seal_all()  # they go out as batches now, and are held no more
+        assert crashed.held() == [] and crashed.samples == 13
+        values = sorted(
+            s["values"]["i"] for x in sent(again) for s in json.loads(x.payload)["samples"]
+        )
+        assert values == list(range(13))
+    finally:
+        crashed.close()
+        b.close()
+
+
+def test_a_restart_seals_held_samples_in_batches_of_batch_size(tmp_path: Path) -> None:
+    buffer = DiskBuffer(tmp_path)
+    for i in range(25):  # held by a run with a larger batch_size
+        buffer.hold("telemetry", sample(i))
+    b, _ = batcher(buffer, batch_size=10, max_samples=100)
+    b.seal_all()
+    assert [x.count for x in sent(b)] == [10, 10, 5] and buffer.held() == []
+    b.close()
+
+
+def test_durable_needs_a_folder_buffer() -> None:
+    with pytest.raises(ValueError, match=r"durable=True .* give `buffer` a folder"):
+        batcher(MemoryBuffer(), durable=True)
+    with pytest.raises(TypeError, match="MemoryBuffer cannot keep samples"):
+        MemoryBuffer().hold("telemetry", sample(1))

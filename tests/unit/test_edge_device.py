@@ -19,7 +19,7 @@ from websockets.asyncio.server import Request, Response, Server, ServerConnectio
 from websockets.exceptions import ConnectionClosed
 
 import twinlink_edge._connection
-from twinlink_edge import AsyncDevice, BufferFull
+from twinlink_edge import AsyncDevice, BufferFull, Device, DiskBuffer
 
 Msg = dict[str, Any]
 TIMEOUT = 10.0
@@ -375,3 +375,33 @@ async def test_the_disk_buffer_resends_after_a_restart_of_the_device(tmp_path: P
     seqs = [b["seq"] for b in fake.batches()]
     assert seqs[:3] == first and seqs[3] > first[-1]
     assert [s["values"]["i"] for b in fake.batches() for s in b["samples"]] == list(range(13))
+
+
+async def test_a_device_never_started_refuses_samples(fake: FakeServer, tmp_path: Path) -> None:
+    dev = device(fake, buffer=tmp_path)
+    with pytest.raises(RuntimeError, match=r"not running: call start\(\) first"):
+        dev.add({"x": 1})
+    with pytest.raises(RuntimeError, match=r"not running: call start\(\) first"):
+        await dev.flush()
+    dev._close_unstarted()
+    plain = Device(fake.url, fake.token)
+    with pytest.raises(RuntimeError, match=r"not running: call start\(\) first"):
+        plain.add({"x": 1})
+    plain.close()
+    buffer = DiskBuffer(tmp_path)
+    assert (buffer.samples, buffer.held()) == (0, [])  # nothing kept for a start never made
+    buffer.close()
+    with pytest.raises(ValueError, match=r"durable=True .* give `buffer`"):
+        device(fake, durable=True)
+
+
+async def test_a_durable_device_sends_what_it_held(fake: FakeServer, tmp_path: Path) -> None:
+    async with device(fake, buffer=tmp_path, durable=True, flush_interval=3600) as dev:
+        for i in range(3):
+            dev.add({"i": i})
+        on_disk = DiskBuffer(tmp_path)  # a second reader of the file, as after a crash
+        assert len(on_disk.held()) == 3  # though no batch was sealed yet
+        on_disk.close()
+        await dev.flush(TIMEOUT)
+        assert dev.acked_samples == 3
+    assert [s["values"]["i"] for b in fake.batches() for s in b["samples"]] == [0, 1, 2]

@@ -1,5 +1,6 @@
 """The thread-safe core of a device: samples waiting to be sealed into batches, the sealed
 batches without an ack (in a `Buffer`), the bound on both, and the order batches go out in.
+With `durable`, each waiting sample is also held in the buffer's file before `add` returns.
 
 `add` may be called from any thread; everything else runs on the device's event loop."""
 
@@ -37,12 +38,18 @@ class Batcher:
         max_samples: int,
         on_full: str,
         notify: Callable[[bool], None],
+        durable: bool = False,
     ) -> None:
         if on_full not in ON_FULL:
             raise ValueError(f"on_full is one of {', '.join(ON_FULL)}, not {on_full!r}")
         if max_samples < batch_size:
             raise ValueError("max_buffered_samples must be at least batch_size")
+        if durable and not buffer.keeps_samples:
+            raise ValueError(
+                "durable=True writes each sample to the device's disk: give `buffer` a folder"
+            )
         self.buffer = buffer
+        self.durable = durable
         self.batch_size = batch_size
         self.max_samples = max_samples
         self.on_full = on_full
@@ -57,6 +64,9 @@ class Batcher:
         self._streams: set[str] = set()
         self._closed = False
         self._drop_logged = 0.0
+        for stream, item in buffer.held():  # added by an earlier run, never sealed
+            self._pending.setdefault(stream, []).append(item)
+            self._pending_count += 1
 
     @property
     def buffered_samples(self) -> int:
@@ -76,6 +86,8 @@ class Batcher:
             dropped = self._make_room(wait)
             if dropped is None:
                 return False
+            if self.durable:  # on disk before anything else: an error leaves nothing taken
+                self.buffer.hold(stream, sample)
             pending = self._pending.setdefault(stream, [])
             pending.append(sample)
             self._pending_count += 1
@@ -128,18 +140,22 @@ class Batcher:
     def _seal(self, stream: str) -> None:
         samples = self._pending.pop(stream)
         self._pending_count -= len(samples)
-        self._seal_samples(stream, samples)
+        batches: list[StoredBatch] = []
+        for start in range(0, len(samples), self.batch_size):  # more after a restart
+            self._encode(stream, samples[start : start + self.batch_size], batches)
+        # The samples held on disk for the stream go with the batches that now carry them.
+        self.buffer.put_all(batches, released=stream)
+        self._queue.extend(batch.seq for batch in batches)
 
-    def _seal_samples(self, stream: str, samples: list[JsonObject]) -> None:
+    def _encode(self, stream: str, samples: list[JsonObject], out: list[StoredBatch]) -> None:
         seq = self._seq.next()
         payload, size = encode(batch_message(seq, stream, samples))
         if size > MAX_FRAME_BYTES and len(samples) > 1:  # too large a frame: halve it
             half = len(samples) // 2
-            self._seal_samples(stream, samples[:half])
-            self._seal_samples(stream, samples[half:])
+            self._encode(stream, samples[:half], out)
+            self._encode(stream, samples[half:], out)
             return
-        self.buffer.put(StoredBatch(seq, stream, len(samples), payload))
-        self._queue.append(seq)
+        out.append(StoredBatch(seq, stream, len(samples), payload))
 
     def _seal_all(self) -> None:
         for stream in list(self._pending):

@@ -14,7 +14,7 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 
 from . import __version__
 from ._batcher import Batcher
-from ._protocol import MAX_FRAME_BYTES, Ack, Backoff, JsonObject, dumps, loads
+from ._protocol import MAX_FRAME_BYTES, Ack, Backoff, JsonObject, loads
 
 if TYPE_CHECKING:
     from .aio import AsyncDevice
@@ -25,7 +25,6 @@ CLOSE_REVOKED = 4401
 CLOSE_REPLACED = 4409
 RETRY_DELAY = 1.0  # seconds before a batch the server could not store goes out again
 STABLE_SESSION = 5.0  # seconds a connection must last before the backoff starts over
-PING = dumps({"type": "ping"})
 
 
 class Connection:
@@ -59,7 +58,7 @@ class Connection:
             "user_agent_header": f"twinlink-edge/{__version__}",
         }
         self._inflight: set[int] = set()
-        # Round trips (`AsyncDevice._round_trip`) whose ping went out on this connection, in
+        # Round trips (`ControlQueue.round_trip`) whose ping went out on this connection, in
         # order: the server answers pings in order, and a pong carries no id.
         self._pings: deque[asyncio.Future[None]] = deque()
         self._since: float | None = None  # when the current connection was welcomed
@@ -150,7 +149,7 @@ class Connection:
             self._up.clear()
         # A ping lost with its connection goes out again on the next one, after what waits
         # there: a round trip counts only when it was made on one connection.
-        self.device._control.extend(self._pings)
+        self.device._control.again(list(self._pings))
         self._pings.clear()
 
     async def _session(self, ws: ClientConnection) -> None:
@@ -199,14 +198,11 @@ class Connection:
         assert work is not None
         while True:
             work.clear()
-            while dev._control:
-                item = dev._control.popleft()
-                if isinstance(item, asyncio.Future) and item.done():
-                    continue  # a round trip that stopped waiting
+            while (item := dev._control.next()) is not None:
                 try:
-                    await ws.send(item if isinstance(item, str) else PING)
+                    await ws.send(dev._control.text_of(item))
                 except BaseException:
-                    dev._control.appendleft(item)
+                    dev._control.put_back(item)
                     raise
                 if not isinstance(item, str):
                     self._pings.append(item)

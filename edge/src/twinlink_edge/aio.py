@@ -7,12 +7,12 @@ import contextlib
 import logging
 import os
 import threading
-from collections import deque
-from typing import Any, Callable, TypeVar, Union
+from typing import Any, Callable, TypeVar
 
 from ._batcher import Batcher, check_options
 from ._buffer import Buffer, DiskBuffer, MemoryBuffer
 from ._connection import Connection
+from ._control import ControlQueue
 from ._handlers import AnyCommandHandler, DesiredHandler, Dispatcher
 from ._inbox import NOT_READ
 from ._protocol import (
@@ -28,8 +28,6 @@ from ._reports import Reports
 log = logging.getLogger("twinlink_edge")
 
 F = TypeVar("F", bound=Callable[..., Any])
-# A message for the server, or a round trip waiting to send its ping (see `_round_trip`).
-Control = Union[str, "asyncio.Future[None]"]
 
 
 class AsyncDevice:
@@ -44,10 +42,12 @@ class AsyncDevice:
     Samples are sealed into a batch when `batch_size` wait or `flush_interval` seconds after
     the first of them; up to `window` batches are in flight at once. Batches wait in `buffer`
     (memory, or a folder for a `DiskBuffer`) until their ack, and go out again after a
-    reconnect. At most `max_buffered_samples` wait; then `on_full` decides: `"block"` (`add`
-    from another thread waits, `await send()` waits, `add` on the event loop raises
-    `BufferFull`), `"drop_oldest"` (the oldest batch is dropped) or `"error"` (`BufferFull`).
-    """
+    reconnect. With `durable=True` (and a folder), `add` returns once the sample itself is in
+    the folder's file, so a crash of the program loses none of the samples added. At most
+    `max_buffered_samples` wait; then `on_full` decides: `"block"` (`add` from another thread
+    waits, `await send()` waits, `add` on the event loop raises `BufferFull`), `"drop_oldest"`
+    (the oldest batch is dropped) or `"error"` (`BufferFull`). `add` before `start` raises
+    `RuntimeError`, as `flush` does."""
 
     def __init__(
         self,
@@ -59,6 +59,7 @@ class AsyncDevice:
         flush_interval: float = 0.05,
         window: int = 16,
         buffer: Buffer | str | os.PathLike[str] | None = None,
+        durable: bool = False,
         max_buffered_samples: int = 1_000_000,
         on_full: str = "block",
         backoff_initial: float = 0.1,
@@ -70,6 +71,8 @@ class AsyncDevice:
         on_ack: Callable[[Ack], Any] | None = None,
     ) -> None:
         check_options(token, batch_size, flush_interval, window, max_buffered_samples, on_full)
+        if durable and buffer is None:
+            raise ValueError("durable=True writes each sample to the device's disk: give `buffer`")
         self.url = device_ws_url(url)
         self.stream = check_stream(stream)
         self.flush_interval = flush_interval
@@ -85,8 +88,10 @@ class AsyncDevice:
             max_samples=max_buffered_samples,
             on_full=on_full,
             notify=self._notify,
+            durable=durable,
         )
-        self._dispatcher = Dispatcher(self._send_control)
+        self._control = ControlQueue(self._wake)  # command answers, pings
+        self._dispatcher = Dispatcher(self._control.put)
         self._conn = Connection(
             self,
             self._batcher,
@@ -123,8 +128,6 @@ class AsyncDevice:
         self._pending: asyncio.Event | None = None  # samples wait to be sealed
         self._space: asyncio.Event | None = None  # room in the buffer
         self._flush_waiters: list[tuple[int, asyncio.Future[None]]] = []
-        self._control: deque[Control] = deque()  # delivered/result messages, pings
-        self._unconfirmed = False  # messages in _control since the last round trip began
         self._reports = Reports()
         self._tasks: list[asyncio.Task[None]] = []
         self._closed = False
@@ -182,7 +185,7 @@ class AsyncDevice:
             where = "kept on disk" if isinstance(self._batcher.buffer, DiskBuffer) else "lost"
             n = self._batcher.buffered_samples
             log.warning("closing with %d samples unacknowledged (%s)", n, where)
-        if not self._unconfirmed:
+        if not self._control.unconfirmed:
             return
         # The server handles messages in order: once it answers a ping sent after the
         # command answers, it has them all.
@@ -211,9 +214,11 @@ class AsyncDevice:
     ) -> None:
         """Queue one sample (`time_ns`: nanoseconds since the epoch, default now). Safe to
         call from any thread; no I/O, except that with a disk buffer the call that completes
-        a batch writes it."""
+        a batch writes it, and with `durable=True` every call writes its sample."""
+        if self._loop_thread is None:  # a sample would wait for a start that may not come
+            raise RuntimeError("the device is not running: call start() first")
         item = sample(values, time_ns)
-        here = self._loop_thread is None or self._loop_thread == threading.get_ident()
+        here = self._loop_thread == threading.get_ident()
         if not self._batcher.add(item, stream or self.stream, wait=not here):
             raise BufferFull("the buffer is full: from the event loop, await send() waits")
 
@@ -289,20 +294,9 @@ class AsyncDevice:
             raise TimeoutError(f"no reported_ack after {timeout} s") from None
 
     async def _round_trip(self, timeout: float | None = None) -> None:
-        """Send a ping and wait for its pong. The server handles a connection's messages in
-        order and sends its own in order, so then it has handled everything sent before (the
-        command answers), and everything it sent before has been read: the commands queued
-        for this device follow its welcome. `TimeoutError` after `timeout` seconds."""
-        loop = self._started()._loop
-        assert loop is not None
-        fut: asyncio.Future[None] = loop.create_future()
-        self._send_control(fut)
-        self._unconfirmed = False
-        try:
-            await asyncio.wait_for(fut, timeout)
-        except asyncio.TimeoutError:
-            self._unconfirmed = True
-            raise TimeoutError(f"no answer to a ping after {timeout} s") from None
+        """A ping and its pong (`ControlQueue.round_trip`): the server has the command
+        answers sent before, the device the messages the server sent before."""
+        await self._started()._control.round_trip(timeout)
 
     # ---- state -------------------------------------------------------------------------
 
@@ -368,9 +362,7 @@ class AsyncDevice:
         else:
             self._pending.set()
 
-    def _send_control(self, item: Control) -> None:
-        self._control.append(item)
-        self._unconfirmed |= isinstance(item, str)
+    def _wake(self) -> None:
         if self._work is not None:
             self._work.set()
 

@@ -121,7 +121,7 @@ class Connect:
                 return
             except TimeoutError:
                 pass
-        reason = self.device.aio.last_error or f"{self.device.aio.url} did not answer"
+        reason = self.device.last_error or f"{self.device.aio.url} did not answer"
         raise ConnectionError(f"not connected within {timeout:g} s: {reason}")
 
     def add_to_message(self, name: str, value: Any) -> None:

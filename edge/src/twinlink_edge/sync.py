@@ -127,7 +127,8 @@ class Device:
     def add(
         self, values: JsonObject, time_ns: int | None = None, stream: str | None = None
     ) -> None:
-        """Queue one sample; blocks while the buffer is full under `on_full="block"`."""
+        """Queue one sample; blocks while the buffer is full under `on_full="block"`.
+        `RuntimeError` before `start()`, as `flush` (nothing would ever send it)."""
         self._dev.add(values, time_ns, stream)
 
     send = add
@@ -194,6 +195,11 @@ class Device:
     @property
     def device_name(self) -> str | None:
         return self._dev.device_name
+
+    @property
+    def last_error(self) -> str | None:
+        """Why the last connection attempt failed or ended, as the SDK logged it."""
+        return self._dev.last_error
 
     @property
     def aio(self) -> AsyncDevice:
