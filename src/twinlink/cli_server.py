@@ -72,12 +72,23 @@ def demo(
     config_file: str | None,
     examples: Path,
 ) -> None:
-    """Run the server with the example twins loaded (data in ./.twinlink-demo)."""
+    """Run the server with the example twins loaded (data in ./.twinlink-demo).
+
+    It logs warnings only, as text, unless TWINLINK_LOG_LEVEL or TWINLINK_LOG_FORMAT say
+    otherwise (info and json are `twinlink up`'s defaults).
+    """
     from twinlink.server import mqtt_port_free, print_bootstrap, serve
 
     settings = load_settings(config_file, host=host, port=port, data_dir=data_dir)
-    if "data_dir" not in settings.model_fields_set:
-        settings.data_dir = Path(".twinlink-demo")  # unless a flag, variable or file says
+    given = settings.model_fields_set  # by a flag, a variable or the settings file
+    if "data_dir" not in given:
+        settings.data_dir = Path(".twinlink-demo")
+    # A person reads the demo's output: the welcome below says what runs; each device
+    # connecting and each schema step would bury it.
+    if "log_level" not in given:
+        settings.log_level = "warning"
+    if "log_format" not in given:
+        settings.log_format = "text"
     if (
         settings.mqtt_mode == "embedded"
         and "mqtt_port" not in settings.model_fields_set
@@ -100,32 +111,27 @@ def demo(
 
     async def ready(services: Services) -> Callable[[], Awaitable[None]] | None:
         from twinlink.demo import load_examples, start_demo_fmu, start_demo_simulator
-        from twinlink.demo_crane import start_demo_crane
+        from twinlink.demo_crane import start_crane_services, start_demo_crane
 
-        loaded = await load_examples(services, examples)
+        # The crane's services first: the documents name the ports they really got.
+        crane = await start_crane_services()
+        loaded = await load_examples(services, examples, crane.documents if crane else None)
         stop_simulator = await start_demo_simulator(services, settings.base_url)
-        fmu_note = await start_demo_fmu(services, examples)
-        crane_note, stop_crane = await start_demo_crane(services)
-        live = "  Tingen streams live from a simulated rig (device tingenSAP).\n"
-        mqtt_port = services.mqtt.port
-        if mqtt_port is not None:
-            live += (
-                f"  Devices may publish over MQTT to {settings.mqtt_host}:{mqtt_port}, "
-                f"topics twinlink/{{twin}}/{{device}}/telemetry (docs/mqtt.md).\n"
+        notes = [await start_demo_fmu(services, examples)]
+        stop_crane: Callable[[], Awaitable[None]] | None = None
+        if crane is not None:
+            crane_note, stop_crane = await start_demo_crane(services, crane)
+            notes.append(crane_note)
+        if stop_simulator is None:
+            notes = []  # no Tingen twin: nothing of the demo runs
+        else:
+            notes.insert(0, "Tingen streams live from a simulated rig (device tingenSAP).")
+        if services.mqtt.port is not None:
+            notes.append(
+                f"Devices may publish over MQTT to {settings.mqtt_host}:{services.mqtt.port}, "
+                f"topics twinlink/{{twin}}/{{device}}/telemetry (docs/mqtt.md)."
             )
-        if fmu_note:
-            live += f"  {fmu_note}\n"
-        if crane_note:
-            live += f"  {crane_note}\n"
-        click.echo(
-            f"\n  Demo twins: {', '.join(loaded) or 'none found in ' + str(examples)}\n"
-            f"{live if stop_simulator else ''}"
-            f"  Open {settings.base_url}/app/twins/tingen/live (the web app: Tingen live),\n"
-            f"  {settings.base_url}/ (twins) and {settings.base_url}/docs (API).\n"
-            f"  Sign in as admin; the password and token are in {secrets_file}.\n"
-            f"  CLI: twinlink --url {settings.base_url} login -u admin\n",
-            err=True,
-        )
+        click.echo(_welcome(settings.base_url, loaded, examples, notes, secrets_file), err=True)
 
         async def stop_all() -> None:
             for stop in (stop_simulator, stop_crane):
@@ -135,3 +141,17 @@ def demo(
         return stop_all
 
     serve(settings, on_ready=ready, on_bootstrap=bootstrap)
+
+
+def _welcome(
+    url: str, loaded: list[str], examples: Path, notes: list[str | None], secrets_file: Path
+) -> str:
+    lines = [
+        f"Demo twins: {', '.join(loaded) or f'none found in {examples}'}",
+        *(note for note in notes if note),
+        f"Open {url}/app/twins/tingen/live (the web app: Tingen live),",
+        f"{url}/ (twins) and {url}/docs (API).",
+        f"Sign in as admin; the password and token are in {secrets_file}.",
+        f"CLI: twinlink --url {url} login -u admin",
+    ]
+    return "\n" + "".join(f"  {line}\n" for line in lines)

@@ -52,22 +52,30 @@ async def start_demo_simulator(
     except NotFoundError:
         return None
     stop = asyncio.Event()
-    # The rig stops when the server has stopped listening: waiting long for acks is pointless.
-    rig = run_tingen(base_url, token, stop, close_timeout_s=0.5)
+    # The rig is stopped while the server still serves (server._Server): its last batches are
+    # acknowledged within a fraction of a second, so it ends with nothing lost.
+    rig = run_tingen(base_url, token, stop, close_timeout_s=3.0)
     task = asyncio.create_task(rig, name="demo-simulator")
 
     async def stop_simulator() -> None:
         stop.set()
         try:
-            await asyncio.wait_for(task, 3)
+            await asyncio.wait_for(task, 5)
         except Exception:  # the server is going down; the rig's last batches may be lost
             task.cancel()
 
     return stop_simulator
 
 
-async def load_examples(services: Services, folder: Path) -> list[str]:
-    """Apply every example document as the admin; already-loaded ones stay unchanged."""
+# A twin of several documents (the crane's privacy parts) was "created" when any part was.
+_OUTCOMES = ("created", "updated", "unchanged")
+
+
+async def load_examples(
+    services: Services, folder: Path, rewrite: Callable[[str], str] | None = None
+) -> list[str]:
+    """Apply every example document as the admin (each through `rewrite` first, when given);
+    already-loaded ones stay unchanged. One "slug (outcome)" per twin."""
     from twinlink.domain.errors import ConflictError, DocumentError
     from twinlink.registry.documents import parse_documents
 
@@ -75,15 +83,20 @@ async def load_examples(services: Services, folder: Path) -> list[str]:
     if admin is None:
         return []
     principal = Principal(user=admin)
-    loaded = []
+    outcomes: dict[str, set[str]] = {}
     for path in example_files(folder):
         try:
-            docs = parse_documents(path.read_bytes(), "application/yaml", 1 << 24)
+            text = path.read_text("utf-8")
+            body = (rewrite(text) if rewrite else text).encode()
+            docs = parse_documents(body, "application/yaml", 1 << 24)
             for result in await services.registry.apply(principal, docs):
-                loaded.append(f"{result.twin.slug} ({result.outcome})")
-        except (DocumentError, ConflictError) as err:
+                outcomes.setdefault(result.twin.slug, set()).add(result.outcome)
+        except (DocumentError, ConflictError, UnicodeDecodeError) as err:
             click.echo(f"example {path} was not loaded: {err}", err=True)
-    return loaded
+    return [
+        f"{slug} ({next((o for o in _OUTCOMES if o in seen), '/'.join(sorted(seen)))})"
+        for slug, seen in outcomes.items()
+    ]
 
 
 async def _admin(services: Services) -> Principal | None:

@@ -1,16 +1,28 @@
-"""What `twinlink demo` adds for the Ilmatar crane: its services running beside the server
-(on the ports its DT document names) and their credentials set in the gateway, so each can be
-tried through `/twins/ilmatar-k16052/services/...` at once."""
+"""What `twinlink demo` adds for the Ilmatar crane: its services running beside the server and
+their credentials set in the gateway, so each can be tried through
+`/twins/ilmatar-k16052/services/...` at once.
+
+The services listen on the ports the crane's DT document names (4840, 8701, 8703-8705). A port
+something else already listens on is replaced by a free one, and the documents the demo applies
+and the connector it makes name the ports really used: the gateway and the connector then
+reach the demo's own services, never whatever holds the usual port.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
+import re
 from collections.abc import Awaitable, Callable
+from dataclasses import dataclass
 from typing import Any
 
 import click
 
 from twinlink.app import Services
 from twinlink.auth.rights import Principal
+from twinlink.crane import Crane, CranePorts
+from twinlink.crane.settings import PORT_NAMES
 
 CRANE_SLUG = "ilmatar-k16052"
 _NODE = "nsu=http://twinlink.example/ilmatar;s=Ilmatar"
@@ -38,24 +50,82 @@ def plc_connector(url: str) -> dict[str, Any]:
     }
 
 
-async def start_demo_crane(
-    services: Services, host: str = "127.0.0.1"
-) -> tuple[str | None, Callable[[], Awaitable[None]] | None]:
-    """Start the crane's services and configure their gateway credentials; a line for the
-    welcome text and the function that stops them (both None when they cannot run)."""
-    from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
+def usual_or_free(host: str, usual: CranePorts = CranePorts()) -> CranePorts:
+    """The usual ports, each one something else listens on replaced by 0 (any free one)."""
+    from twinlink.crane._http import can_listen
+
+    ports = dataclasses.asdict(usual)
+    return CranePorts(**{name: p if can_listen(host, p) else 0 for name, p in ports.items()})
+
+
+@dataclass(frozen=True)
+class DemoCrane:
+    """The crane's running services and, by service, the usual ports they could not have."""
+
+    crane: Crane
+    moved: dict[str, tuple[int, int]]  # service -> (usual port, port used instead)
+
+    def documents(self, text: str) -> str:
+        """A DT document's text with each moved port replaced by the one really used."""
+        for usual, used in self.moved.values():
+            text = re.sub(rf"(?<=127\.0\.0\.1:){usual}(?!\d)", str(used), text)
+        return text
+
+    def moved_note(self) -> str | None:
+        """One line naming the usual ports that were taken and what was used instead."""
+        if not self.moved:
+            return None
+        moves = [
+            f"{usual} ({PORT_NAMES[name]}) -> {used}" for name, (usual, used) in self.moved.items()
+        ]
+        return (
+            f"Ports in use elsewhere, replaced for the crane (in its documents too): "
+            f"{', '.join(moves)}."
+        )
+
+
+async def start_crane_services(host: str = "127.0.0.1") -> DemoCrane | None:
+    """Start the crane's services on their usual ports, or free ones where those are taken;
+    None (said in one line) when they cannot start."""
     from twinlink.crane.runner import start_crane
 
+    usual = CranePorts()
+    try:
+        crane = await start_crane(host, usual_or_free(host, usual))
+    except OSError as err:
+        click.echo(f"The crane's services did not start: {err}", err=True)
+        return None
+    moved = {
+        name: (port, getattr(crane.ports, name))
+        for name, port in dataclasses.asdict(usual).items()
+        if getattr(crane.ports, name) != port
+    }
+    return DemoCrane(crane, moved)
+
+
+async def start_demo_crane(
+    services: Services, demo: DemoCrane
+) -> tuple[str | None, Callable[[], Awaitable[None]]]:
+    """Configure the gateway's credentials for the crane's services and its OPC UA connector;
+    a line for the welcome text (None without the crane's twin) and the function that stops
+    the services."""
+    from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
+
+    crane = demo.crane
     admin = await services.store.get_user_by_name("admin")
     twin = await services.registry.get_twin(CRANE_SLUG)
-    if admin is None or twin is None:
-        return None, None
-    try:
-        crane = await start_crane(host)
-    except OSError as err:
-        click.echo(f"the crane's services did not start: {err}", err=True)
-        return None, None
-    principal = Principal(user=admin)
+    principal = None if admin is None or twin is None else Principal(user=admin)
+
+    async def stop() -> None:
+        if principal is not None:
+            await _disable_plc(services, principal)
+        # The gateway's kept-alive connections to the services would each hold their
+        # servers' graceful shutdown until it times out: close them first.
+        services.gateway.pool.close()
+        await crane.stop()
+
+    if principal is None:
+        return None, stop
     for name, auth in gateway_auth(crane).items():
         patch = {"auth": auth, "health_path": HEALTH_PATHS.get(name)}
         await services.gateway.update(principal, CRANE_SLUG, name, patch)
@@ -65,15 +135,24 @@ async def start_demo_crane(
         f"{{{names}}}/..."
     )
     if await _plc(services, principal, crane.opcua.url):
-        note += "\n  Its OPC UA server feeds the twin through the connector plc (stream telemetry)."
-
-    async def stop() -> None:
-        # The gateway's kept-alive connections to the services would each hold their
-        # servers' graceful shutdown until it times out: close them first.
-        services.gateway.pool.close()
-        await crane.stop()
-
+        note += (
+            f"\n  Its OPC UA server ({crane.opcua.url}) feeds the twin through the connector plc."
+        )
+    moved = demo.moved_note()
+    if moved:
+        note += f"\n  {moved}"
     return note, stop
+
+
+async def _disable_plc(services: Services, principal: Principal) -> None:
+    """Stop the connector before its server, and keep it stopped: running, it would say its
+    server vanished; enabled, the next start would start it (and have it fail to connect)
+    before the crane's services are up, which then enable it again (`_plc`)."""
+    from twinlink.domain.errors import InvalidInputError, NotFoundError
+
+    # Deleted, or changed by hand into something that cannot run: nothing to stop.
+    with contextlib.suppress(NotFoundError, InvalidInputError):
+        await services.connectors.update(principal, CRANE_SLUG, "plc", {"enabled": False})
 
 
 async def _plc(services: Services, principal: Principal, url: str) -> bool:
@@ -89,6 +168,6 @@ async def _plc(services: Services, principal: Principal, url: str) -> bool:
                 principal, CRANE_SLUG, "plc", {"config": body["config"], "enabled": True}
             )
     except InvalidInputError as err:
-        click.echo(f"the crane's OPC UA connector did not start: {err}", err=True)
+        click.echo(f"The crane's OPC UA connector did not start: {err}", err=True)
         return False
     return True

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import socket
 import sys
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 
 import uvicorn
 
@@ -26,6 +28,28 @@ def print_bootstrap(created: Bootstrap) -> None:
         lines.append(f"    API token: {created.token}")
     lines.append("")
     print("\n".join(lines), file=sys.stderr, flush=True)
+
+
+log = logging.getLogger("twinlink.server")
+Cleanup = Callable[[], Awaitable[None]]
+
+
+class _Server(uvicorn.Server):
+    """uvicorn's server, which runs `cleanups` (what `on_ready` started) while it still
+    serves: a simulated device of the demo then stops with nothing unacknowledged and a
+    connector before its server, instead of each seeing the platform vanish under it."""
+
+    def __init__(self, config: uvicorn.Config, cleanups: list[Cleanup]) -> None:
+        super().__init__(config)
+        self.cleanups = cleanups
+
+    async def shutdown(self, sockets: list[socket.socket] | None = None) -> None:
+        for cleanup in self.cleanups:
+            try:
+                await cleanup()
+            except Exception:
+                log.exception("stopping what started with the server failed")
+        await super().shutdown(sockets)
 
 
 def mqtt_port_free(settings: Settings) -> bool:
@@ -57,7 +81,8 @@ def serve(
     except OSError as err:
         sock.close()
         raise ConfigError(
-            f"cannot listen on {settings.host}:{settings.port}: {err.strerror}"
+            f"cannot listen on {settings.host}:{settings.port}: {err.strerror}; choose another "
+            "port with --port or TWINLINK_PORT (make demo PORT=8080)"
         ) from None
     if settings.mqtt_mode == "embedded" and settings.mqtt_port and not mqtt_port_free(settings):
         sock.close()
@@ -71,15 +96,17 @@ def serve(
     if settings.port == 0:
         settings.port = sock.getsockname()[1]
 
-    async def ready(services: Services) -> object:
-        result = None
+    cleanups: list[Cleanup] = []
+
+    async def ready(services: Services) -> None:
         if on_ready is not None:
             result = on_ready(services)
             if hasattr(result, "__await__"):
                 result = await result
+            if callable(result):  # a cleanup coroutine function
+                cleanups.append(result)
         # Scripts and tests wait for this line; keep its wording stable.
         print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
-        return result  # a cleanup coroutine function, if on_ready gave one
 
     app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
     config = uvicorn.Config(
@@ -94,6 +121,12 @@ def serve(
         ws_ping_interval=20.0,
         ws_ping_timeout=20.0,
         proxy_headers=False,
+        # At a stop, requests still running after this long are cancelled (a long export
+        # would otherwise hold the shutdown until it ends); the stop then takes seconds.
+        timeout_graceful_shutdown=5,
     )
-    # Server.run picks the event loop (uvloop when installed, as with uvicorn[standard]).
-    uvicorn.Server(config).run(sockets=[sock])
+    # uvicorn raises the SIGINT it stopped for again once it has stopped cleanly; ending here
+    # keeps click from printing "Aborted!" after a clean stop.
+    with contextlib.suppress(KeyboardInterrupt):
+        # Server.run picks the event loop (uvloop when installed, as with uvicorn[standard]).
+        _Server(config, cleanups).run(sockets=[sock])

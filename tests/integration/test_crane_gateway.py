@@ -17,12 +17,12 @@ from tests.conftest import EXAMPLES, Server
 from tests.integration._util import YAML_HEADERS
 from twinlink.crane import Crane, CranePorts, CraneSettings, start_crane
 from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
-from twinlink.demo_crane import plc_connector
+from twinlink.crane.settings import PORT_NAMES
+from twinlink.demo_crane import DemoCrane, plc_connector
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 
 SLUG = "ilmatar-k16052"
-DEFAULT_PORTS = {"8701": "historian", "8703": "bridge", "8704": "cad", "8705": "sensors"}
 
 
 @pytest_asyncio.fixture(loop_scope="module", scope="module")
@@ -38,14 +38,13 @@ async def crane() -> AsyncIterator[Crane]:
 
 
 def _documents_for(crane: Crane) -> bytes:
-    """The crane's DT documents with its services' default ports replaced by the real ones."""
-    parts = []
-    for path in sorted((EXAMPLES / "ilmatar").glob("ilmatar-*.yaml")):
-        text = path.read_text("utf-8")
-        for default, service in DEFAULT_PORTS.items():
-            text = text.replace(f"127.0.0.1:{default}/", crane.root_url(service)[len("http://") :])
-        parts.append(text)
-    return "\n---\n".join(parts).encode()
+    """The crane's DT documents with its services' default ports replaced by the real ones,
+    as `make demo` applies them when a default port is taken."""
+    usual = CranePorts()
+    moved = {name: (getattr(usual, name), getattr(crane.ports, name)) for name in PORT_NAMES}
+    demo = DemoCrane(crane, moved)
+    paths = sorted((EXAMPLES / "ilmatar").glob("ilmatar-*.yaml"))
+    return "\n---\n".join(demo.documents(p.read_text("utf-8")) for p in paths).encode()
 
 
 @pytest_asyncio.fixture(loop_scope="module", scope="module")

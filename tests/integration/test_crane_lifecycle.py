@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import json
 import signal
+import socket
 import sys
 
 import httpx
@@ -80,3 +81,22 @@ async def test_cli_prints_its_urls_and_stops_on_sigint() -> None:
         if proc.returncode is None:
             proc.kill()
             await proc.wait()
+
+
+async def test_cli_refuses_a_taken_port_in_one_line() -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        args = ["--opcua-port", str(port), "--historian-port", "0", "--bridge-port", "0"]
+        args += ["--cad-port", "0", "--sensors-port", "0"]
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "twinlink.crane", *args, stderr=asyncio.subprocess.PIPE
+        )
+        async with asyncio.timeout(60):
+            _, err = await proc.communicate()
+    assert proc.returncode == 1
+    assert err.decode().splitlines() == [
+        f"crane services could not start: port {port} (--opcua-port) on 127.0.0.1 is in use; "
+        "choose another, or 0 for any free one"
+    ]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import dataclasses
 import json
 import logging
 import signal
@@ -11,6 +12,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from twinlink.crane._http import can_listen
 from twinlink.crane.runner import start_crane
 from twinlink.crane.settings import CranePorts, CraneSettings
 
@@ -40,14 +42,18 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
-async def serve(args: argparse.Namespace) -> None:
-    ports = CranePorts(
+def ports_of(args: argparse.Namespace) -> CranePorts:
+    return CranePorts(
         opcua=args.opcua_port,
         historian=args.historian_port,
         bridge=args.bridge_port,
         cad=args.cad_port,
         sensors=args.sensors_port,
     )
+
+
+async def serve(args: argparse.Namespace) -> None:
+    ports = ports_of(args)
     settings = CraneSettings(
         token_ttl_s=args.token_ttl, cad_dir=args.cad_dir, autopilot=not args.no_autopilot
     )
@@ -63,12 +69,32 @@ async def serve(args: argparse.Namespace) -> None:
         await crane.stop()
 
 
+def taken(host: str, ports: CranePorts) -> str | None:
+    """A line naming the ports something else listens on, with the option to change each."""
+    busy = [
+        f"{port} (--{name}-port)"
+        for name, port in dataclasses.asdict(ports).items()
+        if not can_listen(host, port)
+    ]
+    if not busy:
+        return None
+    return (
+        f"port{'s' if len(busy) > 1 else ''} {', '.join(busy)} on {host} "
+        f"{'are' if len(busy) > 1 else 'is'} in use; choose another, or 0 for any free one"
+    )
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     # asyncua reports routine session events (clients that drop, sessions that lapse) as
     # warnings; its errors still show.
     logging.getLogger("asyncua").setLevel(logging.ERROR)
+    # Checked first: asyncua would log a traceback for a taken OPC UA port before failing.
+    problem = taken(args.host, ports_of(args))
+    if problem is not None:
+        print(f"crane services could not start: {problem}", file=sys.stderr)
+        return 1
     try:
         asyncio.run(serve(args))
     except OSError as err:

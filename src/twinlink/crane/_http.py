@@ -6,7 +6,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import html
+import logging
 import socket
+import weakref
 from collections.abc import Generator, Sequence
 from typing import Any
 
@@ -17,6 +19,29 @@ from starlette.routing import Route
 from starlette.types import ASGIApp
 
 STARTUP_TIMEOUT_S = 10.0
+
+
+class _QuietLifecycle(logging.Filter):
+    """Drops the lines uvicorn logs about a server's own life ("Started server process [n]",
+    "Shutting down", ...) from the crane's servers: they share the process and the logger
+    (`uvicorn.error`) with the platform's server, whose lines already say it once. Errors
+    still pass."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tasks: weakref.WeakSet[asyncio.Task[None]] = weakref.WeakSet()
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.levelno > logging.INFO:
+            return True
+        try:
+            task = asyncio.current_task()
+        except RuntimeError:  # no running loop
+            return True
+        return task not in self.tasks
+
+
+_QUIET = _QuietLifecycle()
 
 
 class _InLoopServer(uvicorn.Server):
@@ -51,6 +76,8 @@ class HttpService:
         )
         server = _InLoopServer(config)
         task = asyncio.create_task(server.serve(sockets=[sock]), name=self.name)
+        logging.getLogger("uvicorn.error").addFilter(_QUIET)  # once; adding it again is a no-op
+        _QUIET.tasks.add(task)
         self._server, self._task = server, task
         try:
             async with asyncio.timeout(STARTUP_TIMEOUT_S):
@@ -89,6 +116,17 @@ def listening_socket(host: str, port: int) -> socket.socket:
         sock.close()
         raise OSError(err.errno, f"cannot listen on {host}:{port}: {err.strerror}") from err
     return sock
+
+
+def can_listen(host: str, port: int) -> bool:
+    """Whether a server could listen on host:port now (no other socket listens there)."""
+    if port == 0:
+        return True
+    try:
+        listening_socket(host, port).close()
+    except OSError:
+        return False
+    return True
 
 
 def url_host(host: str) -> str:

@@ -20,6 +20,16 @@ class CranePorts:
     sensors: int = 8705
 
 
+# What each port is for, as a person would name it.
+PORT_NAMES = {
+    "opcua": "OPC UA server",
+    "historian": "historian",
+    "bridge": "OPC UA bridge",
+    "cad": "CAD store",
+    "sensors": "sensor manager",
+}
+
+
 @dataclass(frozen=True)
 class DemoCredentials:
     """Fixed credentials so the demo works out of the box. They are published in docs/crane.md
