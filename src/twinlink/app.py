@@ -33,6 +33,7 @@ from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import mqtt as mqtt_api
 from twinlink.auth.devices import DeviceService
+from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.bus import Bus, MemoryBus
 from twinlink.commands import CommandService, PropertyService
@@ -58,6 +59,7 @@ from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
 from twinlink.store.sqlite import SqliteStore
+from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import SqliteHistory
 
 log = logging.getLogger("twinlink.app")
@@ -87,10 +89,16 @@ class Services:
 
 
 def build_services(settings: Settings) -> Services:
-    store: MetadataStore = SqliteStore(settings.data_dir)
+    faults = StorageFaults()  # disk failures of both files, counted for /metrics
+    store: MetadataStore = SqliteStore(settings.data_dir, faults)
     registry = RegistryService(store, settings.base_url)
     bus = MemoryBus()
-    history = SqliteHistory(settings.data_dir, settings.history_sync)
+    history = SqliteHistory(
+        settings.data_dir,
+        settings.history_sync,
+        max_signals_per_stream=settings.max_signals_per_stream,
+        faults=faults,
+    )
     hub = DeviceHub()
     maintenance = HistoryMaintenance(history, settings.history_retention_days)
     registry.deleted_listeners.append(maintenance.twins_deleted)
@@ -101,10 +109,11 @@ def build_services(settings: Settings) -> Services:
     gateway = GatewayService(
         store, registry, vault, settings.gateway_default_twin, settings.gateway_audit_days
     )
-    devices = DeviceService(store, registry)
+    last_used = LastUsed(store)  # of tokens and devices, written behind the requests
+    devices = DeviceService(store, registry, last_used, settings.device_token_recheck_s)
     return Services(
         store=store,
-        auth=AuthService(store, settings.session_ttl_s),
+        auth=AuthService(store, settings.session_ttl_s, last_used),
         registry=registry,
         search=SearchService(store),
         devices=devices,
@@ -142,6 +151,9 @@ def data_plane_figures(services: Services) -> dict[str, Any]:
         "samples_rejected": services.ingest.samples_rejected,
         "batches_duplicate": services.ingest.batches_duplicate,
         "history_commits": services.history.writer.commits,
+        "storage_full": services.history.writer.faults.counts["full"],
+        "storage_io_errors": services.history.writer.faults.counts["io"],
+        "outputs_not_stored": services.ingest.outputs_not_stored,
         "devices_connected": len(services.device_hub.sessions),
     }
 
@@ -149,6 +161,7 @@ def data_plane_figures(services: Services) -> dict[str, Any]:
 async def start_services(services: Services, settings: Settings) -> Bootstrap | None:
     """Open the stores and start the background work; the first admin if one was made."""
     await services.store.open()
+    services.auth.last_used.start()
     await services.history.open()
     await services.commands.open()
     await services.properties.open()
@@ -177,6 +190,7 @@ async def stop_services(services: Services) -> None:
     await services.commands.close()
     await services.history_maintenance.stop()
     await services.history.close()
+    await services.auth.last_used.close()  # best effort: a full disk does not stop shutdown
     await services.store.close()
 
 

@@ -86,6 +86,20 @@ class Settings(BaseSettings):
         description="Delete history older than this many days (checked every 10 minutes). "
         "0 keeps everything.",
     )
+    max_signals_per_stream: int = Field(
+        1000,
+        ge=1,
+        description="Distinct signals one stream of a twin may have. A batch that would give "
+        "its stream more is refused whole (422 over HTTP, an error without retry on the "
+        "WebSocket and MQTT); signals already stored keep being accepted.",
+    )
+    device_token_recheck_s: float = Field(
+        60,
+        gt=0,
+        description="How often the token of an open device WebSocket is checked again, in "
+        "seconds; a connection whose token was replaced or revoked (or whose device was "
+        "deleted) is closed then.",
+    )
     live_queue_messages: int = Field(
         256,
         gt=0,

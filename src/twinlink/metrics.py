@@ -76,6 +76,9 @@ class DataPlaneCollector:
             ("samples_rejected", "Samples rejected by the checks, with a reason to the device"),
             ("batches_duplicate", "Resent batches acknowledged without storing them again"),
             ("history_commits", "Group commits of the history store"),
+            ("storage_full", "Writes refused because the disk is full (nothing of them stored)"),
+            ("storage_io_errors", "Writes that failed with a disk I/O error (nothing stored)"),
+            ("outputs_not_stored", "Processor output batches the store refused"),
         ):
             yield CounterMetricFamily(f"twinlink_{name}", help_text, value=now[name])
         yield GaugeMetricFamily(

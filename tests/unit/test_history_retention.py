@@ -7,11 +7,14 @@ import asyncio
 import sqlite3
 import time
 
+import pytest
+
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
 from twinlink.domain.samples import SampleBatch
 from twinlink.history.maintenance import DAY_NS, HistoryMaintenance
 from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.sqlite.history import writer as writer_module
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 
@@ -99,3 +102,67 @@ async def test_maintenance_runs_in_the_background_and_deletes_twins(
     finally:
         await maintenance.stop()  # waits for the twin's deletion
     assert await history.streams(TWIN + 2) == []
+
+
+# --- the WAL: bounded while deleting, small afterwards -----------------------------------------
+
+
+def wal_bytes(history: SqliteHistory) -> int:
+    wal = history.path.with_name(history.path.name + "-wal")
+    return wal.stat().st_size if wal.exists() else 0
+
+
+async def scattered(history: SqliteHistory, batches: int, signals: int) -> None:
+    """Batches of many signals: the blocks of one chunk of deletions then sit on as many
+    pages of the index by series as there are blocks (the most WAL a chunk can need)."""
+    for i in range(batches):
+        await write(history, [(T + i * S, {f"s{j}": float(j) for j in range(signals)})])
+
+
+async def test_a_retention_run_leaves_the_wal_below_its_limit(history: SqliteHistory) -> None:
+    await scattered(history, 60, 500)
+    await history.writer.checkpoint()
+    assert history.path.stat().st_size > 3 * 2**20  # a database of some MB
+    limit = await history.write(lambda c: c.execute("PRAGMA journal_size_limit").fetchone()[0])
+    assert limit == history.writer.wal_limit == 16 * 2**20
+    maintenance = HistoryMaintenance(history, retention_days=1, clock=lambda: T + 2 * DAY_NS)
+    assert (await maintenance.run_once())["blocks"] == 60 * 500
+    assert wal_bytes(history) == 0  # checkpointed and truncated after the run
+    assert count(history, "SELECT count(*) FROM blocks") == 0
+
+
+async def test_a_long_read_pauses_retention_rather_than_growing_the_wal(
+    history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    await scattered(history, 60, 500)
+    await history.writer.checkpoint()
+    history.writer.wal_limit = 256 * 1024
+    monkeypatch.setattr(writer_module, "WAL_POLL_S", 0.01)
+    busy = asyncio.Event()
+    paused_at: list[tuple[int, int]] = []  # (WAL bytes, blocks left) at each busy checkpoint
+    checkpoint = history.writer.checkpoint
+
+    async def watched() -> tuple[int, int, int]:
+        answer = await checkpoint()
+        if answer[0]:
+            paused_at.append((wal_bytes(history), count(history, "SELECT count(*) FROM blocks")))
+            if len(paused_at) >= 3:
+                busy.set()
+        return answer
+
+    monkeypatch.setattr(history.writer, "checkpoint", watched)
+    reader = sqlite3.connect(history.path)  # an export in the middle of its read
+    reader.execute("BEGIN")
+    reader.execute("SELECT count(*) FROM blocks").fetchone()
+    try:
+        deleting = asyncio.create_task(history.delete_before(T + 100 * S, chunk=100))
+        await asyncio.wait_for(busy.wait(), 30)
+    finally:
+        reader.rollback()
+        reader.close()
+    assert await deleting == 60 * 500
+    # It waited (no block deleted between the busy checkpoints) with the WAL at the limit
+    # plus one chunk; without waiting, 300 chunks of ~100 pages each would have gone there.
+    assert paused_at[0][1] == paused_at[-1][1] > 0
+    assert paused_at[0][0] < 4 * 2**20
+    assert wal_bytes(history) <= history.writer.wal_limit

@@ -14,6 +14,7 @@ import numpy as np
 import orjson
 import pytest
 
+from twinlink.domain.errors import TooManySignalsError
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.sqlite.history import SqliteHistory
 from twinlink.store.sqlite.history.codec import (
@@ -494,3 +495,60 @@ async def test_sqlite_history_delegates_to_its_writer(tmp_path: Path) -> None:
     finally:
         await history.close()
     assert block_count(history.path) == 1
+
+
+# --- the limit of signals per stream ----------------------------------------------------------
+
+
+async def test_a_batch_that_would_give_its_stream_too_many_signals_is_refused_whole(
+    path: Path,
+) -> None:
+    writer = HistoryWriter(path, max_signals_per_stream=3)
+    await writer.open()
+    try:
+        assert await writer.append(batch([T], [{"a": 1, "b": 2}], seq=1), device_id=5)
+        refused = batch([T + 1, T + 2], [{"a": 3, "c": 4}, {"d": 5, "e": 6}], seq=2)
+        with pytest.raises(TooManySignalsError) as caught:
+            await writer.append(refused, device_id=5)
+        assert str(caught.value) == (
+            "this batch would give stream 'telemetry' of twin 'twin-1' 5 signals "
+            "(new: 'c', 'd', 'e'); a stream may have at most 3 (the server's "
+            "TWINLINK_MAX_SIGNALS_PER_STREAM). The batch was not stored."
+        )
+        # nothing of it was stored, not even its seq: sent again within the limit, it is
+        assert rows(path, "SELECT signal FROM series ORDER BY signal") == [("a",), ("b",)]
+        assert block_count(path) == 2
+        assert await writer.append(batch([T + 1], [{"a": 3, "c": 4}], seq=2), device_id=5)
+        # known signals are always accepted; another stream counts its own
+        assert await writer.append(batch([T + 3], [{"a": 1, "b": 2, "c": 3}]))
+        assert await writer.append(batch([T], [{"d": 1, "e": 2, "f": 3}], stream="other"))
+        with pytest.raises(TooManySignalsError):
+            await writer.append(one(T + 4, 1, signal="d"))
+    finally:
+        await writer.close()
+
+
+async def test_a_refused_batch_fails_alone_in_its_round(path: Path) -> None:
+    writer = HistoryWriter(path, max_signals_per_stream=2)
+    await writer.open()
+    try:
+        results = await asyncio.gather(
+            writer.append(one(T, 1, signal="a")),
+            writer.append(batch([T], [{"b": 1, "c": 2}])),  # a, b, c: one too many
+            writer.append(one(T, 2, signal="b")),
+            return_exceptions=True,
+        )
+        assert results[0] is True and results[2] is True
+        assert isinstance(results[1], TooManySignalsError)
+        assert writer.commits == 1
+    finally:
+        await writer.close()
+    # The count is read back from the file: still 2 of 2 after a restart.
+    again = HistoryWriter(path, max_signals_per_stream=2)
+    await again.open()
+    try:
+        with pytest.raises(TooManySignalsError, match="3 signals"):
+            await again.append(one(T, 1, signal="c"))
+    finally:
+        await again.close()
+    assert rows(path, "SELECT signal FROM series ORDER BY signal") == [("a",), ("b",)]

@@ -12,6 +12,7 @@ from starlette.websockets import WebSocketDisconnect
 
 from twinlink.api.devices import ThisDevice
 from twinlink.api.responses import JSONAnswer
+from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthError
 from twinlink.domain.errors import DocumentTooLargeError
 from twinlink.domain.jsontext import JsonTextError, fits_int64, loads
@@ -24,7 +25,6 @@ router = APIRouter(prefix="/api/v1", tags=["device"])
 log = logging.getLogger("twinlink.ingest")
 
 MAX_BATCH_BYTES = 16 * 1024 * 1024
-RECHECK_TOKEN_S = 60.0
 
 
 def _bearer(headers: Any) -> str | None:
@@ -76,14 +76,21 @@ async def device_socket(websocket: WebSocket) -> None:
         await disconnect_device(link)
 
 
-async def _recheck_token(session: DeviceSession, devices: Any, token: str) -> None:
-    """A token revoked (or a device deleted) while connected ends the connection."""
+async def _recheck_token(session: DeviceSession, devices: DeviceService, token: str) -> None:
+    """A token revoked or replaced (or a device deleted) while connected ends the connection
+    (4401). So does a check that fails for another reason (1011): a connection whose token
+    cannot be checked is not left open unchecked."""
     while not session.closed.is_set():
-        await asyncio.sleep(RECHECK_TOKEN_S)
+        await asyncio.sleep(devices.recheck_token_s)
         try:
             await devices.authenticate(token)
         except AuthError as err:
             await session.close(4401, str(err))
+        except Exception as err:
+            log.warning("device token check failed; closing the connection: %s", err,
+                        extra={"event": "device_recheck_failed",
+                               "device": session.device.name})  # fmt: skip
+            await session.close(1011, "the device token could not be checked again; reconnect")
 
 
 async def _read(link: DeviceLink, websocket: WebSocket) -> None:

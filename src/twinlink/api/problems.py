@@ -21,6 +21,8 @@ from twinlink.domain.errors import (
     InvalidInputError,
     NotFoundError,
     PayloadTooLargeError,
+    StorageError,
+    StorageFullError,
 )
 
 log = logging.getLogger("twinlink.api")
@@ -36,10 +38,17 @@ TITLES = {
     415: "Unsupported media type",
     422: "Unprocessable content",
     500: "Internal error",
+    503: "Service unavailable",
+    507: "Insufficient storage",
 }
+# A client told that storage failed tries again after this long (Retry-After): long enough
+# for an administrator to notice, short enough that nothing waits needlessly once fixed.
+STORAGE_RETRY_AFTER_S = 30
 
 
-def problem(status: int, detail: str, **extra: Any) -> Response:
+def problem(
+    status: int, detail: str, headers: dict[str, str] | None = None, **extra: Any
+) -> Response:
     body = {
         "type": "about:blank",
         "title": TITLES.get(status, "Error"),
@@ -47,7 +56,8 @@ def problem(status: int, detail: str, **extra: Any) -> Response:
         "detail": detail,
         **extra,
     }
-    headers = {"WWW-Authenticate": 'Bearer realm="twinlink"'} if status == 401 else None
+    if status == 401:
+        headers = {"WWW-Authenticate": 'Bearer realm="twinlink"', **(headers or {})}
     return Response(orjson.dumps(body), status_code=status, media_type=PROBLEM, headers=headers)
 
 
@@ -92,6 +102,15 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(StarletteHTTPException)
     async def _http(_: Request, exc: StarletteHTTPException) -> Response:
         return problem(exc.status_code, str(exc.detail))
+
+    @app.exception_handler(StorageError)
+    async def _storage(_: Request, exc: StorageError) -> Response:
+        # Counted and logged (once a minute) where it happened, in the store: not here.
+        # 507 when the disk is full (it stays so until someone frees space), 503 for an I/O
+        # error; both say when to try again, and that nothing was stored.
+        status = 507 if isinstance(exc, StorageFullError) else 503
+        retry = {"Retry-After": str(STORAGE_RETRY_AFTER_S)}
+        return problem(status, str(exc), headers=retry)
 
     @app.exception_handler(sqlite3.IntegrityError)
     async def _integrity(request: Request, exc: sqlite3.IntegrityError) -> Response:

@@ -11,6 +11,7 @@ import re
 import secrets
 from collections.abc import Awaitable, Callable
 
+from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.secrets import hash_token, token_prefix
 from twinlink.auth.service import AuthError, now_ns
@@ -21,7 +22,7 @@ from twinlink.store.records import Device, TwinRecord
 
 DEVICE_TOKEN_PREFIX = "tld_"
 DEVICE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$")
-_TOUCH_EVERY_NS = 60 * 1_000_000_000
+RECHECK_TOKEN_S = 60.0
 
 
 def new_device_token() -> str:
@@ -29,9 +30,20 @@ def new_device_token() -> str:
 
 
 class DeviceService:
-    def __init__(self, store: MetadataStore, registry: RegistryService) -> None:
+    def __init__(
+        self,
+        store: MetadataStore,
+        registry: RegistryService,
+        last_used: LastUsed | None = None,
+        recheck_token_s: float = RECHECK_TOKEN_S,
+    ) -> None:
         self.store = store
         self.registry = registry
+        # When each device was last seen: kept in memory, written behind (last_used.py).
+        self.last_used = last_used or LastUsed(store)
+        # How often the token of an open connection is checked again (a device rotated,
+        # or deleted, while connected is then cut off).
+        self.recheck_token_s = recheck_token_s
         # Called with each deleted device, so what speaks for it (a connector) stops.
         self.deleted_listeners: list[Callable[[Device], Awaitable[None]]] = []
 
@@ -49,10 +61,15 @@ class DeviceService:
         return device
 
     async def list(self, principal: Principal, slug: str) -> list[Device]:
-        return await self.store.list_devices((await self._twin(principal, slug, "viewer")).id)
+        devices = await self.store.list_devices((await self._twin(principal, slug, "viewer")).id)
+        return [self._seen(d) for d in devices]
 
     async def get(self, principal: Principal, slug: str, name: str) -> Device:
-        return await self._device(principal, slug, name, "viewer")
+        return self._seen(await self._device(principal, slug, name, "viewer"))
+
+    def _seen(self, device: Device) -> Device:
+        device.last_seen_ns = self.last_used.device_time(device.id, device.last_seen_ns)
+        return device
 
     async def create(
         self, principal: Principal, slug: str, name: str, description: str
@@ -96,8 +113,8 @@ class DeviceService:
         device = await self.store.find_device(hash_token(token))
         if device is None:
             raise AuthError("the device token is not valid")
-        now = now_ns()
-        if device.last_seen_ns is None or now - device.last_seen_ns > _TOUCH_EVERY_NS:
-            await self.store.touch_device(device.id, now)
-            device.last_seen_ns = now
+        # In memory only: the store gets it later, in a batch, and a store that cannot take
+        # it (a full disk) never fails a connection.
+        device.last_seen_ns = now_ns()
+        self.last_used.device_seen(device.id, device.last_seen_ns)
         return device

@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal
 from twinlink.auth.secrets import (
     hash_password,
@@ -79,8 +80,12 @@ def now_ns() -> int:
 
 
 class AuthService:
-    def __init__(self, store: MetadataStore, session_ttl_s: int) -> None:
+    def __init__(
+        self, store: MetadataStore, session_ttl_s: int, last_used: LastUsed | None = None
+    ) -> None:
         self.store = store
+        # When each token was last used: kept in memory, written behind (last_used.py).
+        self.last_used = last_used or LastUsed(store)
         self.session_ttl_ns = session_ttl_s * 1_000_000_000
         # token hash -> (token, user, when cached: monotonic s); see the module's doc
         self._tokens: dict[bytes, tuple[ApiToken, User, float]] = {}
@@ -150,10 +155,10 @@ class AuthService:
             raise AuthError("the token has expired")
         if user.disabled:
             raise AuthError("the user is disabled")
-        # Record use at most once a minute: a write per request would cost more than the lookup.
-        if record.last_used_ns is None or now - record.last_used_ns > 60_000_000_000:
-            record.last_used_ns = now  # the cached record too
-            await self.store.touch_token(record.id, now)
+        # In memory only (the cached record too): the store gets it later, in a batch, and a
+        # store that cannot take it (a full disk) never fails the request.
+        record.last_used_ns = now
+        self.last_used.token_used(record.id, now)
         return Principal(user=user, token_id=record.id)
 
     async def login(self, username: str, password: str) -> IssuedToken:
@@ -204,6 +209,8 @@ class AuthService:
         else:
             names = {principal.user.id: principal.user.username}
             records = await self.store.list_tokens(principal.user.id)
+        for record in records:
+            record.last_used_ns = self.last_used.token_time(record.id, record.last_used_ns)
         return [
             ListedToken(t, names.get(t.user_id, ""), t.id == principal.token_id) for t in records
         ]

@@ -20,6 +20,7 @@ from typing import Any, TypeVar
 import orjson
 
 from twinlink.commands.model import CommandRecord
+from twinlink.domain.errors import StorageError
 
 T = TypeVar("T")
 log = logging.getLogger("twinlink.commands")
@@ -140,7 +141,11 @@ class WriteBehind:
     """Command state changes, written behind the caller: each change is in the log within one
     group commit, and changes made while a commit runs share the next one (one upsert per
     command, however often its state changed). `sync` waits until everything saved so far is
-    committed."""
+    committed.
+
+    A write that fails (a full disk) keeps its changes for the next one (unless newer ones
+    of the same command came meanwhile) and fails the `sync` calls waiting for it; it is
+    tried again with the next `save` or `sync`, not in a loop against a disk that is full."""
 
     def __init__(self, write: Write) -> None:
         self._write = write
@@ -167,21 +172,39 @@ class WriteBehind:
         if self._task is None:
             self._task = asyncio.create_task(self._run(), name="command-log-writer")
 
+    async def close(self) -> None:
+        """Write what is unsaved, then take no more (shutting down). Best effort: on a disk
+        that refuses it, open commands reload from what the log last took."""
+        try:
+            await self.sync()
+        except StorageError:
+            log.warning("%d command change(s) not written at shutdown: storage failed",
+                        len(self._dirty), extra={"event": "command_log_failed"})  # fmt: skip
+        self.closed = True
+
     async def _run(self) -> None:
         try:
             while self._dirty or self._waiters:
-                rows = [command_row(r) for r in self._dirty.values()]
-                self._dirty.clear()
+                taken = self._dirty
+                self._dirty = {}
                 waiters, self._waiters = self._waiters, []
-                error: BaseException | None = None
-                if rows:
-                    try:
-                        await self._write(partial(save_commands, rows))
-                    except Exception as err:
+                if not taken:
+                    _settle(waiters, None)
+                    continue
+                try:
+                    await self._write(
+                        partial(save_commands, [command_row(r) for r in taken.values()])
+                    )
+                except Exception as err:
+                    if not isinstance(err, StorageError):  # the store logged that one
                         log.exception("writing the command log failed",
                                       extra={"event": "command_log_failed"})  # fmt: skip
-                        error = err
-                _settle(waiters, error)
+                    for command_id, record in taken.items():  # newer changes win
+                        self._dirty.setdefault(command_id, record)
+                    _settle([*waiters, *self._waiters], err)
+                    self._waiters = []
+                    return
+                _settle(waiters, None)
         finally:
             self._task = None
 

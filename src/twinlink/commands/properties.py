@@ -23,7 +23,7 @@ from twinlink.commands.state import (
     load_properties,
     save_properties,
 )
-from twinlink.domain.errors import ForbiddenError, NotFoundError
+from twinlink.domain.errors import ForbiddenError, NotFoundError, StorageError
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
 from twinlink.registry.service import RegistryService
 from twinlink.store.records import Device
@@ -124,9 +124,13 @@ class PropertyService:
         echo = {"id": ref} if isinstance(ref, str | int) and not isinstance(ref, bool) else {}
         try:
             body = await self._store_report(props, names)
-        except Exception:
-            log.exception("storing reported properties failed", extra={"event": "reported_failed"})
+        except Exception as err:
             text = "the reported values could not be stored; send them again"
+            if isinstance(err, StorageError):  # counted and logged once a minute by the store
+                text = str(err)
+            else:
+                log.exception("storing reported properties failed",
+                              extra={"event": "reported_failed"})  # fmt: skip
             session.send(
                 {"type": "error", "op": "reported", "fatal": False, "retry": True,
                  "message": text, **echo}

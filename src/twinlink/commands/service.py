@@ -101,8 +101,7 @@ class CommandService:
             live.timer.cancel()
         if self._tasks:
             await asyncio.gather(*self._tasks, return_exceptions=True)
-        await self.log.sync()
-        self.log.closed = True
+        await self.log.close()  # best effort: a full disk does not fail the shutdown
         await self.reader.close()
 
     # -- people ----------------------------------------------------------------------------

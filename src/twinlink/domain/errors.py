@@ -64,3 +64,18 @@ class InvalidInputError(ValueError):
 
 class PayloadTooLargeError(InvalidInputError):
     """A request body over a configured size limit (HTTP 413)."""
+
+
+class StorageError(Exception):
+    """The disk under the store failed a write (HTTP 503): nothing of the request was stored,
+    and the same request may succeed later."""
+
+
+class StorageFullError(StorageError):
+    """The disk under the store is full (HTTP 507): nothing of the request was stored until
+    space is freed."""
+
+
+class TooManySignalsError(InvalidInputError):
+    """A batch would give its stream more distinct signals than the configured limit (HTTP
+    422); nothing of the batch was stored."""

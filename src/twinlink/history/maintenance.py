@@ -4,7 +4,12 @@ Every 30 seconds, series that got small blocks have them merged (store/.../compa
 Every 10 minutes (and once at start): samples older than `history_retention_days` are deleted
 when it is more than 0, and the record of stored batches (which makes a resent batch a
 duplicate) forgets batches older than 7 days. When twins are deleted, their history goes too.
-Every deletion runs in chunks through the writer's group commit, so ingest keeps flowing.
+Every deletion runs in chunks through the writer's group commit, so ingest keeps flowing;
+after a round that deleted something the WAL is checkpointed and truncated, so the space the
+deletion needed is handed back at once (docs/config.md, "Disk space").
+
+A full disk makes these fail as every other write does: the store counts and logs that once a
+minute (store/sqlite/faults.py), so the failures are not logged again here.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import logging
 import time
 from collections.abc import Callable
 
+from twinlink.domain.errors import StorageError
 from twinlink.store.sqlite.history import SqliteHistory
 
 log = logging.getLogger("twinlink.history")
@@ -59,6 +65,8 @@ class HistoryMaintenance:
         while True:
             try:
                 await self.run_once()
+            except StorageError:
+                pass  # counted and logged by the store; the next round tries again
             except Exception:
                 log.exception("history maintenance failed", extra={"event": "history_retention"})
             await asyncio.sleep(self.every_s)
@@ -68,6 +76,8 @@ class HistoryMaintenance:
             await asyncio.sleep(self.compact_every_s)
             try:
                 done = await self.history.compact()
+            except StorageError:
+                continue  # counted and logged by the store
             except Exception:
                 log.exception("history compaction failed", extra={"event": "history_compact"})
                 continue
@@ -87,6 +97,9 @@ class HistoryMaintenance:
             done["blocks"] = await self.history.delete_before(cutoff)
         done["batches"] = await self.history.forget_ingested_before(now - DEDUPE_DAYS * DAY_NS)
         if any(done.values()):
+            # Readers in the middle of a long read make it busy; journal_size_limit trims the
+            # WAL once they are done.
+            await self.history.writer.checkpoint()
             log.info("history retention", extra={"event": "history_retention", **done})
         return done
 
@@ -108,6 +121,12 @@ class HistoryMaintenance:
     async def _delete_twin(self, twin_id: int) -> None:
         try:
             blocks = await self.history.delete_twin(twin_id)
+        except StorageError:  # counted and logged by the store
+            log.warning(
+                "a deleted twin's history stays until the next start (storage failed)",
+                extra={"event": "history_delete_failed", "twin_id": twin_id},
+            )
+            return
         except Exception:
             log.exception(
                 "deleting a twin's history failed",

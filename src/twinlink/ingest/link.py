@@ -13,6 +13,7 @@ import logging
 import time
 from typing import Any
 
+from twinlink.domain.errors import StorageError, TooManySignalsError
 from twinlink.domain.samples import BatchError
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub, DeviceSession, Transport
@@ -105,8 +106,10 @@ class DeviceLink:
         seq = message.get("seq")
         try:
             ack = await self.ingest.ingest(device, message)
-        except BatchError as err:
+        except (BatchError, TooManySignalsError) as err:
             self.error(str(err), seq=seq)
+        except StorageError as err:  # counted and logged (once a minute) by the store
+            self.error(str(err), seq=seq, retry=True)
         except Exception:
             log.exception("storing a batch failed", extra={"event": "ingest_failed"})
             self.error("the batch could not be stored; send it again", seq=seq, retry=True)

@@ -12,9 +12,11 @@ import asyncio
 import logging
 import time
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from twinlink.bus import Bus, samples_subject
+from twinlink.domain.errors import StorageError
 from twinlink.domain.merge import merge_parts
 from twinlink.domain.samples import (
     MAX_REPORTED_REJECTIONS,
@@ -30,6 +32,7 @@ from twinlink.store.history import HistoryWriterStore
 from twinlink.store.records import Device
 
 log = logging.getLogger("twinlink.ingest")
+OUTPUT_LOG_EVERY_S = 60.0
 
 
 @dataclass(slots=True)
@@ -67,6 +70,8 @@ class IngestService:
         self.samples_accepted = 0
         self.samples_rejected = 0
         self.batches_duplicate = 0
+        self.outputs_not_stored = 0  # processor output batches the store refused
+        self._refusals: dict[tuple[int, str], tuple[float, int]] = {}  # last logged, since
 
     async def schema_for(self, twin_id: int) -> Schema:
         schema = self._schemas.get(twin_id)
@@ -79,7 +84,9 @@ class IngestService:
         return schema
 
     async def ingest(self, device: Device, body: Any) -> Ack:
-        """Store one batch from `device`. Raises BatchError when it cannot be read at all."""
+        """Store one batch from `device`. Raises BatchError when it cannot be read at all,
+        TooManySignalsError when it would give its stream too many signals (nothing of it is
+        stored in either case), StorageError when the disk refused it (send it again)."""
         received_ns = time.time_ns()
         schema = await self.schema_for(device.twin_id)
         read = read_batch(body, schema, received_ns)
@@ -111,13 +118,31 @@ class IngestService:
         the disk. Stores happen in call order."""
         stored = asyncio.ensure_future(self.history.append(batch))
         self._storing.add(stored)
-        stored.add_done_callback(self._stored)
+        stored.add_done_callback(partial(self._stored, batch))
         await self.bus.publish(samples_subject(batch.twin_id, batch.stream), batch)
 
-    def _stored(self, task: asyncio.Future[bool]) -> None:
+    def _stored(self, batch: SampleBatch, task: asyncio.Future[bool]) -> None:
         self._storing.discard(task)
-        if not task.cancelled() and task.exception() is not None:
-            log.error("storing processor output failed: %s", task.exception())
+        if task.cancelled() or task.exception() is None:
+            return
+        self.outputs_not_stored += 1
+        err = task.exception()
+        if isinstance(err, StorageError):
+            return  # counted and logged (once a minute) by the store
+        # A processor whose output is refused (too many signals) sends the next batch a
+        # moment later: one line per stream a minute, not one per batch.
+        key = (batch.twin_id, batch.stream)
+        now = time.monotonic()
+        last, missed = self._refusals.get(key, (-OUTPUT_LOG_EVERY_S, 0))
+        if now - last < OUTPUT_LOG_EVERY_S:
+            self._refusals[key] = (last, missed + 1)
+            return
+        self._refusals[key] = (now, 0)
+        log.error(
+            "output of %s not stored (stream %r of twin %r): %s%s", batch.source, batch.stream,
+            batch.twin, err, f" ({missed} more since the last report)" if missed else "",
+            extra={"event": "output_not_stored", "twin": batch.twin, "stream": batch.stream},
+        )  # fmt: skip
 
     def _ack(self, read: ReadBatch, duplicate: bool) -> Ack:
         if duplicate:

@@ -157,6 +157,10 @@ class DeviceConnection:
                 await self.listener.platform.devices.authenticate(token)
             except AuthError as err:
                 await session.close(4401, str(err))
+            except Exception as err:  # not left open unchecked (as on the device WebSocket)
+                log.warning("device token check failed; closing: %s", err,
+                            extra={"event": "device_recheck_failed"})  # fmt: skip
+                await session.close(1011, "the device token could not be checked again")
 
     def shut_down(self) -> None:
         """The listener closes: read nothing more (the read loop sees the end), then finish."""

@@ -1,12 +1,14 @@
 """One SQLite connection owned by one thread, and versioned schema migrations.
 
 SQLite allows one writer at a time; giving the connection a thread of its own turns every
-call into a queue entry instead of a lock fight, and keeps the event loop free.
+call into a queue entry instead of a lock fight, and keeps the event loop free. A write the
+disk refuses (full, I/O error) leaves as StorageFullError/StorageError (faults.py).
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import re
 import sqlite3
@@ -16,8 +18,16 @@ from importlib import resources
 from pathlib import Path
 from typing import TypeVar
 
+from twinlink.domain.errors import StorageError
+from twinlink.store.sqlite.faults import StorageFaults, translate
+
 T = TypeVar("T")
 log = logging.getLogger("twinlink.store")
+
+# After a checkpoint empties the WAL, SQLite trims the file to this size. Without a limit the
+# WAL keeps the size of the largest transaction it ever held (a retention run made it 58 MB
+# and it stayed so); with it, it comes back to at most this.
+JOURNAL_SIZE_LIMIT = 16 * 2**20
 
 _MIGRATION_NAME = re.compile(r"^(\d{4})_[a-z0-9_]+\.sql$")
 
@@ -56,14 +66,16 @@ def connect(path: Path) -> sqlite3.Connection:
     conn.execute("PRAGMA synchronous=NORMAL")
     conn.execute("PRAGMA foreign_keys=ON")
     conn.execute("PRAGMA busy_timeout=5000")
+    conn.execute(f"PRAGMA journal_size_limit={JOURNAL_SIZE_LIMIT}")
     return conn
 
 
 class Database:
     """Runs functions against the connection on its own thread."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, faults: StorageFaults | None = None) -> None:
         self.path = path
+        self.faults = faults or StorageFaults()
         self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="twinlink-sqlite")
         self._conn: sqlite3.Connection | None = None
 
@@ -78,17 +90,29 @@ class Database:
 
     async def close(self) -> None:
         def _close() -> None:
-            if self._conn is not None:
-                self._conn.execute("PRAGMA optimize")
-                self._conn.close()
-                self._conn = None
+            if self._conn is None:
+                return
+            try:
+                self._conn.execute("PRAGMA optimize")  # statistics for the query planner
+            except sqlite3.Error as err:  # a full disk: they are only a hint; close anyway
+                log.warning("store: skipped PRAGMA optimize at close: %s", err,
+                            extra={"event": "store_close"})  # fmt: skip
+            self._conn.close()
+            self._conn = None
 
         await self.run(_close)
         self._executor.shutdown(wait=True)
 
     async def run(self, fn: Callable[..., T], *args: object) -> T:
         loop = asyncio.get_running_loop()
-        return await loop.run_in_executor(self._executor, fn, *args)
+        try:
+            return await loop.run_in_executor(self._executor, fn, *args)
+        except sqlite3.OperationalError as err:
+            mapped = translate(err)
+            if not isinstance(mapped, StorageError):
+                raise
+            self.faults.failed(mapped, self.path.name, "metadata write")
+            raise mapped from err
 
     @property
     def conn(self) -> sqlite3.Connection:
@@ -103,16 +127,24 @@ class Database:
         """Run `fn` in one transaction: all of its writes land, or none do."""
 
         def _tx(conn: sqlite3.Connection) -> T:
+            if conn.in_transaction:  # a ROLLBACK that failed last time left one open
+                conn.execute("ROLLBACK")
             conn.execute("BEGIN IMMEDIATE")
             try:
                 result = fn(conn)
+                conn.execute("COMMIT")
             except BaseException:
-                conn.execute("ROLLBACK")
+                # On a full disk SQLite may have rolled back already; a ROLLBACK then would
+                # only hide the error that matters.
+                if conn.in_transaction:
+                    with contextlib.suppress(sqlite3.Error):
+                        conn.execute("ROLLBACK")
                 raise
-            conn.execute("COMMIT")
             return result
 
-        return await self.run(_tx, self.conn)
+        result = await self.run(_tx, self.conn)
+        self.faults.ok(self.path.name)
+        return result
 
 
 def next_id(conn: sqlite3.Connection, table: str) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sqlite3
+from collections.abc import Mapping
 
 from twinlink.domain.errors import ConflictError
 from twinlink.store.records import Device
@@ -79,10 +80,14 @@ class DeviceTables:
             )
         )
 
-    async def touch_device(self, device_id: int, now_ns: int) -> None:
+    async def touch_devices(self, times: Mapping[int, int]) -> None:
+        """Record when devices were last seen ({device id: ns}), never moving a time back."""
+        rows = [(ns, device_id, ns) for device_id, ns in times.items()]
         await self.db.write(
-            lambda c: c.execute(
-                "UPDATE devices SET last_seen_ns = ? WHERE id = ?", (now_ns, device_id)
+            lambda c: c.executemany(
+                "UPDATE devices SET last_seen_ns = ? WHERE id = ?"
+                " AND (last_seen_ns IS NULL OR last_seen_ns < ?)",
+                rows,
             )
         )
 

@@ -7,6 +7,7 @@ from pathlib import Path
 from twinlink.store.sqlite.connectors import ConnectorTables
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.devices import DeviceTables
+from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.gateway import GatewayTables
 from twinlink.store.sqlite.processors import ProcessorTables
 from twinlink.store.sqlite.search import SearchTables
@@ -28,8 +29,8 @@ class SqliteStore(
 
     FILE_NAME = "twinlink.sqlite3"
 
-    def __init__(self, data_dir: Path) -> None:
-        self.db = Database(Path(data_dir) / self.FILE_NAME)
+    def __init__(self, data_dir: Path, faults: StorageFaults | None = None) -> None:
+        self.db = Database(Path(data_dir) / self.FILE_NAME, faults)
 
     async def open(self) -> None:
         await self.db.open()

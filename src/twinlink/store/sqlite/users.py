@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sqlite3
+from collections.abc import Mapping
 
 import orjson
 
@@ -144,10 +145,14 @@ class UserTables:
 
         return await self.db.read(_find)
 
-    async def touch_token(self, token_id: int, now_ns: int) -> None:
-        await self.db.read(
-            lambda c: c.execute(
-                "UPDATE api_tokens SET last_used_ns = ? WHERE id = ?", (now_ns, token_id)
+    async def touch_tokens(self, times: Mapping[int, int]) -> None:
+        """Record when tokens were last used ({token id: ns}), never moving a time back."""
+        rows = [(ns, token_id, ns) for token_id, ns in times.items()]
+        await self.db.write(
+            lambda c: c.executemany(
+                "UPDATE api_tokens SET last_used_ns = ? WHERE id = ?"
+                " AND (last_used_ns IS NULL OR last_used_ns < ?)",
+                rows,
             )
         )
 

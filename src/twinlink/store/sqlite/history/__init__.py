@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from twinlink.domain.samples import SampleBatch
+from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import retention
 from twinlink.store.sqlite.history.aggregate import aggregate_rows, aggregate_series
 from twinlink.store.sqlite.history.compact import Compacted
@@ -27,7 +28,11 @@ from twinlink.store.sqlite.history.queries import (
     signal_summaries,
 )
 from twinlink.store.sqlite.history.reader import HistoryReader
-from twinlink.store.sqlite.history.writer import HistoryWriter, WriteFn
+from twinlink.store.sqlite.history.writer import (
+    MAX_SIGNALS_PER_STREAM,
+    HistoryWriter,
+    WriteFn,
+)
 
 __all__ = ["AggregateAnswer", "Downsampled", "SamplePage", "SqliteHistory"]
 
@@ -39,9 +44,16 @@ class AggregateAnswer:
 
 
 class SqliteHistory:
-    def __init__(self, data_dir: Path, synchronous: str = "full") -> None:
+    def __init__(
+        self,
+        data_dir: Path,
+        synchronous: str = "full",
+        *,
+        max_signals_per_stream: int = MAX_SIGNALS_PER_STREAM,
+        faults: StorageFaults | None = None,
+    ) -> None:
         self.path = data_dir / "history.db"
-        self.writer = HistoryWriter(self.path, synchronous)
+        self.writer = HistoryWriter(self.path, synchronous, max_signals_per_stream, faults)
         self.reader = HistoryReader(self.path)
 
     async def open(self) -> None:
@@ -188,19 +200,21 @@ class SqliteHistory:
 
     # -- deletes (through the writer's group commit, a chunk per commit) ---------------
 
-    async def _repeat(self, fn: Callable[[Any], int], chunk: int) -> int:
+    async def _repeat(self, fn: Callable[[Any], int], chunk: int, wal_room: bool = False) -> int:
         total = 0
         while True:
             deleted: int = await self.writer.write(fn)
             total += deleted
             if deleted < chunk:
                 return total
+            if wal_room:  # retention is never in a hurry: it waits for long reads (once)
+                wal_room = await self.writer.make_wal_room()
 
     async def delete_before(self, cutoff_ns: int, chunk: int = retention.CHUNK) -> int:
         """Delete the samples older than the cutoff (whole blocks whose last sample is older,
         and latest values older); returns the number of blocks deleted."""
         blocks = await self._repeat(
-            partial(retention.delete_blocks_before, cutoff_ns=cutoff_ns, chunk=chunk), chunk
+            partial(retention.delete_blocks_before, cutoff_ns=cutoff_ns, chunk=chunk), chunk, True
         )
         await self.writer.write(partial(retention.delete_latest_before, cutoff_ns=cutoff_ns))
         return blocks
@@ -208,7 +222,9 @@ class SqliteHistory:
     async def forget_ingested_before(self, cutoff_ns: int, chunk: int = retention.CHUNK) -> int:
         """Forget which batches were stored before the cutoff (the dedupe record)."""
         return await self._repeat(
-            partial(retention.delete_ingested_before, cutoff_ns=cutoff_ns, chunk=chunk), chunk
+            partial(retention.delete_ingested_before, cutoff_ns=cutoff_ns, chunk=chunk),
+            chunk,
+            True,
         )
 
     async def delete_twin(self, twin_id: int, chunk: int = retention.CHUNK) -> int:
