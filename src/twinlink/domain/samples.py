@@ -115,7 +115,11 @@ def big_int_outside_samples(message: dict[str, Any]) -> str | None:
     64 bits anywhere but in its `samples` (each sample is judged on its own by `read_batch`,
     which already looks at every value), or None. The message names the place."""
     for key, value in message.items():
-        if key != "samples":
+        kind = type(value)
+        if kind is int:  # `seq`, an `id`: inline, this runs for every message of a device
+            if not -_INT_LIMIT <= value < _INT_LIMIT:
+                return f"{key}: {int64_problem(value)}"
+        elif (kind is dict or kind is list) and key != "samples":
             found = first_big_int(value, str(key))
             if found is not None:
                 return f"{found[0]}: {int64_problem(found[1])}"
