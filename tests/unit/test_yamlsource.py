@@ -5,6 +5,7 @@ from pathlib import Path
 import pytest
 
 from twinlink.domain.errors import DocumentError
+from twinlink.domain.jsontext import int64_problem
 from twinlink.domain.yamlsource import dump_yaml, format_path, parse_yaml_stream
 
 FIXTURES = Path(__file__).parent / "fixtures"
@@ -70,3 +71,46 @@ def test_deep_nesting_is_refused() -> None:
     with pytest.raises(DocumentError, match="too deeply nested") as caught:
         parse_yaml_stream("a: " + "[" * 3000 + "]" * 3000 + "\n")
     assert caught.value.problems
+
+
+# -- keys given twice, integers Python cannot read ------------------------------------------
+
+
+def test_a_key_given_twice_is_refused_at_its_second_place() -> None:
+    text = "version: '1.0'\nfeatures:\n  - name: a\n    description: x\n    name: b\nname: t\n"
+    with pytest.raises(DocumentError, match="given twice") as caught:
+        parse_yaml_stream(text)
+    [problem] = caught.value.problems
+    assert (problem.line, problem.column, problem.path) == (5, 5, "features[0].name")
+    assert problem.message.startswith("key 'name' is given twice in one mapping")
+    assert "first at line 3, column 5" in problem.message
+    assert "nothing was stored" in caught.value.title
+
+
+def test_every_key_given_twice_is_reported_once_even_through_aliases() -> None:
+    text = "a: &m {x: 1, x: 2}\nb: *m\nc: 1\nc: 2\n---\nd: 1\nd: 1\n"
+    with pytest.raises(DocumentError) as caught:
+        parse_yaml_stream(text)
+    # The first document stops the stream; its two keys are named once each.
+    assert [(p.line, p.path, p.document) for p in caught.value.problems] == [
+        (1, "a.x", 0),
+        (4, "c", 0),
+    ]
+
+
+def test_merged_keys_may_be_overridden_and_text_and_numbers_are_different_keys() -> None:
+    text = "base: &b {unit: m, min: 0}\nsignal:\n  <<: *b\n  min: 1\n1: number\n'1': text\n"
+    [doc] = parse_yaml_stream(text)
+    assert doc.data["signal"] == {"unit": "m", "min": 1}
+    assert doc.data[1] == "number" and doc.data["1"] == "text"
+
+
+@pytest.mark.parametrize("literal", ["7" * 5000, "-" + "1" * 4301, "1" + ":30" * 100_000])
+def test_an_integer_python_will_not_read_is_refused_with_its_line(literal: str) -> None:
+    with pytest.raises(DocumentError) as caught:
+        parse_yaml_stream(f"a: 1\nb:\n  - {literal}\n")
+    [problem] = caught.value.problems
+    assert (problem.line, problem.column) == (3, 5)
+    assert "does not fit in 64 bits" in problem.message
+    assert problem.message == int64_problem(literal)
+    assert len(problem.message) < 200

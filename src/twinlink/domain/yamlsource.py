@@ -1,8 +1,10 @@
 """Parse YAML into plain data while remembering where each value stood.
 
-PyYAML's safe loader is used with two changes: timestamps stay strings (a DT document's
-`createdHuman` must not turn into a datetime that JSON cannot hold), and the composed node
-tree is walked to map every path to its line and column, so validation can point at them.
+PyYAML's safe loader is used with three changes: timestamps stay strings (a DT document's
+`createdHuman` must not turn into a datetime that JSON cannot hold), an integer too long for
+Python to read is refused with its line, and the composed node tree is walked to map every
+path to its line and column, so validation can point at them. The same walk refuses a key
+given twice in one mapping: PyYAML would keep the last one without a word.
 """
 
 from __future__ import annotations
@@ -13,10 +15,19 @@ from typing import Any
 import yaml
 
 from twinlink.domain.errors import DocumentError, Problem
+from twinlink.domain.jsontext import int64_problem
 
 _Base: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 Path = tuple[str | int, ...]
+
+
+class _IntTooLong(Exception):
+    """An integer literal Python will not turn into an int (over 4 300 digits)."""
+
+    def __init__(self, node: yaml.ScalarNode) -> None:
+        super().__init__(node.value)
+        self.node = node
 
 
 class _Loader(_Base):  # type: ignore[misc]
@@ -26,6 +37,20 @@ class _Loader(_Base):  # type: ignore[misc]
         first: [(tag, rx) for tag, rx in resolvers if tag != "tag:yaml.org,2002:timestamp"]
         for first, resolvers in _Base.yaml_implicit_resolvers.items()
     }
+
+    def construct_yaml_int(self, node: yaml.ScalarNode) -> int:
+        # Such integers are far outside 64 bits anyway; they are refused like one, with their
+        # line. YAML 1.1's base 60 (`1:30:00`) is summed part by part, which takes quadratic
+        # time for a long one; from 12 parts on (60^12 > 2^63) it is not summed at all.
+        if str(node.value).count(":") >= 12:
+            raise _IntTooLong(node)
+        try:
+            return int(super().construct_yaml_int(node))
+        except ValueError:  # Python reads at most 4 300 digits
+            raise _IntTooLong(node) from None
+
+
+_Loader.add_constructor("tag:yaml.org,2002:int", _Loader.construct_yaml_int)
 
 
 @dataclass(slots=True)
@@ -69,24 +94,65 @@ MAX_VALUES = 200_000
 MAX_DEPTH = 64
 
 
+_MERGE = "tag:yaml.org,2002:merge"
+
+
 class _TooLarge(Exception):
     pass
 
 
-def _record(node: yaml.Node, path: Path, marks: dict[Path, tuple[int, int]]) -> None:
-    if len(marks) > MAX_VALUES or len(path) > MAX_DEPTH:
-        raise _TooLarge
-    marks[path] = (node.start_mark.line + 1, node.start_mark.column + 1)
-    if isinstance(node, yaml.MappingNode):
-        for key_node, value_node in node.value:
-            key = key_node.value if isinstance(key_node, yaml.ScalarNode) else str(key_node.value)
-            child = (*path, key)
-            _record(value_node, child, marks)
-            # A key's own position is more useful than its value's for "missing"/"unknown".
-            marks[child] = (key_node.start_mark.line + 1, key_node.start_mark.column + 1)
-    elif isinstance(node, yaml.SequenceNode):
-        for i, item in enumerate(node.value):
-            _record(item, (*path, i), marks)
+def _position(node: yaml.Node) -> tuple[int, int]:
+    return node.start_mark.line + 1, node.start_mark.column + 1
+
+
+@dataclass(slots=True)
+class _Walk:
+    """What walking one document's node tree finds: positions and keys given twice."""
+
+    index: int
+    marks: dict[Path, tuple[int, int]] = field(default_factory=dict)
+    twice: dict[tuple[int, int], Problem] = field(default_factory=dict)
+
+    def record(self, node: yaml.Node, path: Path) -> None:
+        if len(self.marks) > MAX_VALUES or len(path) > MAX_DEPTH:
+            raise _TooLarge
+        self.marks[path] = _position(node)
+        if isinstance(node, yaml.MappingNode):
+            seen: dict[tuple[str, str], yaml.Node] = {}
+            for key_node, value_node in node.value:
+                key = (
+                    key_node.value if isinstance(key_node, yaml.ScalarNode) else str(key_node.value)
+                )
+                child = (*path, key)
+                self.record(value_node, child)
+                # A key's own position is more useful than its value's for "missing"/"unknown".
+                self.marks[child] = _position(key_node)
+                if isinstance(key_node, yaml.ScalarNode) and key_node.tag != _MERGE:
+                    self._once(seen, key_node, child)
+        elif isinstance(node, yaml.SequenceNode):
+            for i, item in enumerate(node.value):
+                self.record(item, (*path, i))
+
+    def _once(self, seen: dict[tuple[str, str], yaml.Node], key: yaml.Node, path: Path) -> None:
+        # Keys merged in with `<<` may be overridden (that is what merging is for); two keys
+        # written in one mapping may not. The tag tells `1` (a number) from `'1'` (text).
+        first = seen.setdefault((key.tag, key.value), key)
+        if first is key:
+            return
+        line, column = _position(key)
+        first_line, first_column = _position(first)
+        # An alias may show the same mapping again: report each place once, where it is written.
+        self.twice.setdefault(
+            (line, column),
+            Problem(
+                f"key {key.value!r} is given twice in one mapping "
+                f"(first at line {first_line}, column {first_column}); keep one",
+                path=format_path(path),
+                line=line,
+                column=column,
+                document=self.index,
+            ),
+        )
 
 
 def parse_yaml_stream(text: str) -> list[SourceDocument]:
@@ -99,9 +165,9 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
             node = loader.get_node()
             if node is None:
                 continue
-            marks: dict[Path, tuple[int, int]] = {}
+            walk = _Walk(len(docs))
             try:
-                _record(node, (), marks)
+                walk.record(node, ())
             except _TooLarge:
                 raise DocumentError(
                     "The document is too large or too deeply nested; nothing was stored.",
@@ -115,8 +181,13 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
                         )
                     ],
                 ) from None
-            data = loader.construct_document(node)
-            docs.append(SourceDocument(data=data, marks=marks, index=len(docs)))
+            if walk.twice:
+                raise DocumentError(
+                    "A key is given twice in one mapping; nothing was stored.",
+                    list(walk.twice.values()),
+                )
+            data = _construct(loader, node, len(docs))
+            docs.append(SourceDocument(data=data, marks=walk.marks, index=len(docs)))
     except yaml.MarkedYAMLError as err:
         mark = err.problem_mark or err.context_mark
         reason = " ".join(x for x in (err.context, err.problem) if x) or "malformed YAML"
@@ -148,6 +219,17 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
     finally:
         loader.dispose()
     return docs
+
+
+def _construct(loader: Any, node: yaml.Node, index: int) -> Any:
+    try:
+        return loader.construct_document(node)
+    except _IntTooLong as err:
+        line, column = _position(err.node)
+        raise DocumentError(
+            "The DT document has problems; nothing was stored.",
+            [Problem(int64_problem(err.node.value), line=line, column=column, document=index)],
+        ) from None
 
 
 def dump_yaml(data: Any) -> str:
