@@ -4,9 +4,14 @@ parameters that must be refused with a problem, never a 500."""
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
+import httpx
 import pytest
 
 from tests.conftest import Server, start_server, stop_server
@@ -23,6 +28,7 @@ from tests.integration._util import (
     twin_doc,
     unique,
 )
+from twinlink.domain.jsontext import int64_problem
 
 # -- bad documents -------------------------------------------------------------------------
 
@@ -168,6 +174,10 @@ def _deep(levels: int) -> str:
     )
 
 
+def _doc(line: str) -> bytes:
+    return f"version: '1.0'\nprivacy: public\nname: Extreme\n{line}\n".encode()
+
+
 BILLION_LAUGHS = (
     'version: "1.0"\nprivacy: public\nid: urn:test:laughs\nname: Laughs\n'
     "a: &a [x, x, x, x, x, x, x, x, x, x]\n"
@@ -233,11 +243,49 @@ BAD_DOCUMENTS: dict[str, tuple[bytes, str]] = {
         ).encode(),
         "application/yaml",
     ),
+    # Numbers and times beyond what the platform holds (issue 13, items 2 to 4).
+    "createdMachine past 2262": (_doc("createdMachine: 9300000000"), "application/yaml"),
+    "createdMachine before 1677": (_doc("createdMachine: -9300000000"), "application/yaml"),
+    "createdHuman in 9999": (_doc("createdHuman: '9999-12-31T23:59:59Z'"), "application/yaml"),
+    "createdHuman in 1000": (_doc("createdHuman: '1000-01-01'"), "application/yaml"),
+    "modifiedMachine huge": (_doc("modifiedMachine: '1e999999'"), "application/yaml"),
+    "integer of 5000 digits": (_doc("big: " + "7" * 5000), "application/yaml"),
+    "base 60 integer": (_doc("big: 1" + ":30" * 100_000), "application/yaml"),
+    "json integer beyond 64 bits": (
+        b'{"version": "1.0", "name": "j", "createdMachine": 93000000000000000000000}',
+        "application/json",
+    ),
+    "json integer of 5000 digits": (
+        b'{"version": "1.0", "name": "j", "x": ' + b"7" * 5000 + b"}",
+        "application/json",
+    ),
+    "json number beyond floats": (
+        b'{"version": "1.0", "name": "j", "x": 1e400}',
+        "application/json",
+    ),
+    "yaml key twice": (_doc("name: again"), "application/yaml"),
+    "yaml feature key twice": (
+        _doc("features:\n  - name: a\n    address: x\n    address: y"),
+        "application/yaml",
+    ),
+    "json key twice": (b'{"version": "1.0", "name": "j", "name": "k"}', "application/json"),
+    "interface min as text": (
+        _doc("interface:\n  signals:\n    - {name: s, min: '5'}"),
+        "application/yaml",
+    ),
+    "interface max infinite": (
+        _doc("interface:\n  signals:\n    - {name: s, max: .inf}"),
+        "application/yaml",
+    ),
+    "interface flag as a word": (
+        _doc("interface:\n  properties:\n    - {name: p, writable: 'no'}"),
+        "application/yaml",
+    ),
 }
 
 
 # Unusual but not necessarily wrong: storing them (losslessly) or refusing them are both fine.
-MAY_BE_ACCEPTED = {"nested 100 deep", "nested 300 deep", "integer beyond 64 bits"}
+MAY_BE_ACCEPTED = {"nested 100 deep", "nested 300 deep"}
 # PUT names the twin by its URL, so a document without an id or name (or with its own `slug`,
 # which the URL overrides) is a fine update there.
 PUT_MAY_ACCEPT = {"no id nor name", "bad slug", "slug is a list", "slug is a mapping"}
@@ -300,3 +348,72 @@ def test_bad_query_parameters_are_refused_with_a_problem(server: Server) -> None
         ):
             assert_problem(admin.post("/api/v1/users", json=body), 422)
         assert_problem(admin.post("/api/v1/users", content=b"{not json", headers=JSON_HEADERS), 422)
+
+
+# -- the same message for the same problem, in YAML and JSON --------------------------------
+
+
+def _problems(r: httpx.Response) -> list[dict[str, Any]]:
+    return assert_problem(r, 422)["errors"]  # type: ignore[no-any-return]
+
+
+def test_integers_beyond_64_bits_have_one_message_in_yaml_and_json(server: Server) -> None:
+    big = 2**64
+    with server.admin as admin:
+        from_yaml = _problems(
+            admin.post("/api/v1/apply", content=_doc(f"size: {big}"), headers=YAML_HEADERS)
+        )
+        from_json = _problems(
+            admin.post(
+                "/api/v1/apply",
+                content=b'{"version": "1.0",\n "name": "j", "size": %d}' % big,
+                headers=JSON_HEADERS,
+            )
+        )
+    assert [(e["line"], e["path"], e["message"]) for e in from_yaml] == [
+        (4, "size", int64_problem(big))
+    ]
+    [problem] = from_json
+    assert problem["message"] == f"size: {int64_problem(big)}"
+
+
+def test_keys_given_twice_are_refused_with_the_second_place(server: Server) -> None:
+    yaml_text = b"version: '1.0'\nname: a\nfeatures:\n  - name: f\n    keywords: [x]\n    name: g\n"
+    json_text = b'{"version": "1.0",\n "features": [{"name": "f",\n   "name": "g"}]}'
+    with server.admin as admin:
+        [in_yaml] = _problems(admin.post("/api/v1/apply", content=yaml_text, headers=YAML_HEADERS))
+        [in_json] = _problems(admin.put("/api/v1/twins/x", content=json_text, headers=JSON_HEADERS))
+    assert (in_yaml["line"], in_yaml["column"], in_yaml["path"]) == (6, 5, "features[0].name")
+    assert "key 'name' is given twice" in in_yaml["message"]
+    assert (in_json["line"], in_json["column"]) == (3, 4)
+    assert "key 'name' is given twice" in in_json["message"]
+
+
+def test_times_out_of_range_name_the_span_and_the_line(server: Server) -> None:
+    text = _doc("createdMachine: 9300000000\ncreatedHuman: '1000-01-01'")
+    with server.admin as admin:
+        found = _problems(admin.post("/api/v1/twins", content=text, headers=YAML_HEADERS))
+    assert [(e["line"], e["path"]) for e in found] == [(4, "createdMachine"), (5, "createdHuman")]
+    assert "Unix seconds from -9223372036 to 9223372036" in found[0]["message"]
+    assert "1677-09-21T00:12:44Z to 2262-04-11T23:47:16Z" in found[1]["message"]
+
+
+def test_twinlink_apply_reports_a_refused_document_without_a_traceback(
+    server: Server, tmp_path: Path
+) -> None:
+    path = tmp_path / "huge.yaml"
+    path.write_bytes(_doc("big: " + "7" * 5000))
+    env = {**os.environ, "XDG_CONFIG_HOME": str(tmp_path), "HOME": str(tmp_path)}
+    cli = [sys.executable, "-m", "twinlink", "--url", server.url, "--token", server.admin_token]
+    run = subprocess.run(
+        [*cli, "apply", "-f", str(path)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    )
+    assert run.returncode == 1, run.stderr
+    assert "Traceback" not in run.stderr
+    assert (
+        "line 4, column 6" in run.stderr and "(5000 digits) does not fit in 64 bits" in run.stderr
+    )

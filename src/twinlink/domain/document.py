@@ -1,7 +1,12 @@
 """The DT document: the Aalto dt-document fields, Twinbase's, and our `interface` section.
 
 Validation checks types and rules; the document itself stays the plain mapping it was read
-as, so keys we do not know are kept and come back in their order on output.
+as, so keys we do not know are kept and come back in their order on output. Other parts of the
+platform read that mapping (ingest compares values with an interface's `min`), so a value
+is accepted only in the type it will be used as: `min: "5"` is refused, not read as 5.
+
+A Twinbase document is one with `dt-id` and no `version`: Twinbase publishes documents
+without one, and its format is defined by its fields, which this model reads as they are.
 """
 
 from __future__ import annotations
@@ -10,14 +15,32 @@ import math
 import re
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
+from twinlink.domain.doctime import TimeRangeError, human_ns, machine_ns
 from twinlink.domain.errors import DocumentError, Problem
+from twinlink.domain.jsontext import fits_int64, int64_problem
 from twinlink.domain.yamlsource import MAX_DEPTH, Path, SourceDocument
 
 SUPPORTED_VERSION = re.compile(r"^(0|1)(\.\d+){0,2}$")
 PRIVACY_LEVEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$")
 PLATFORM_KEYS = ("createdMachine", "createdHuman", "modifiedMachine", "modifiedHuman")
+# Twinbase's template says `dt-id: autoassign|https://dtid.org` and `hosting-iri: autoassign`:
+# values its publishing workflow fills in (the id under that base, the page's address).
+AUTOASSIGN = "autoassign"
+
+
+def is_placeholder(value: Any) -> bool:
+    """Twinbase's `autoassign` (or `autoassign|BASE`), a value still to be filled in."""
+    return isinstance(value, str) and value.split("|", 1)[0].strip() == AUTOASSIGN
 
 
 def _number_to_text(value: Any) -> Any:
@@ -39,6 +62,9 @@ def _one_to_list(value: Any) -> Any:
 
 
 Text = Annotated[str, BeforeValidator(_number_to_text)]
+# A JSON number (an integer or a finite float), never a bool or a number written as text.
+Number = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+Flag = Annotated[bool, Field(strict=True)]
 
 
 class _Open(BaseModel):
@@ -91,8 +117,8 @@ class Signal(_Open):
     name: Text = Field(min_length=1)
     unit: Text | None = None
     type: SignalType = "number"
-    min: float | None = None
-    max: float | None = None
+    min: Number | None = None
+    max: Number | None = None
     description: Text | None = None
 
     @model_validator(mode="after")
@@ -103,11 +129,11 @@ class Signal(_Open):
 
 
 class Property(Signal):
-    writable: bool = False
+    writable: Flag = False
 
 
 class Parameter(Signal):
-    required: bool = False
+    required: Flag = False
     default: Any = None
 
 
@@ -129,7 +155,7 @@ class Interface(_Open):
 class DocumentPart(_Open):
     """One document as written: a whole twin, or its part for one privacy level."""
 
-    version: Text
+    version: Text | None = None  # required unless the document is Twinbase's (`_rules`)
     privacy: Annotated[Text, BeforeValidator(_privacy)] = "private"
     id: Text | None = None
     dt_id: Text | None = Field(None, alias="dt-id")
@@ -145,9 +171,25 @@ class DocumentPart(_Open):
     features: list[Feature] = Field(default_factory=list)
     interface: Interface | None = None
 
+    @field_validator("hosting_iri")
+    @classmethod
+    def _no_placeholder(cls, value: str | None) -> str | None:
+        return None if is_placeholder(value) else value
+
     @property
     def global_id(self) -> str | None:
-        return self.id or self.dt_id
+        if self.id:
+            return self.id
+        return None if is_placeholder(self.dt_id) else self.dt_id
+
+    @property
+    def id_base(self) -> str | None:
+        """BASE of `dt-id: autoassign|BASE`: a new twin's id is BASE/{slug}, as Twinbase
+        names it BASE/{folder}."""
+        if self.id or not is_placeholder(self.dt_id):
+            return None
+        _, _, base = str(self.dt_id).partition("|")
+        return base.strip().rstrip("/") or None
 
 
 def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]:
@@ -178,6 +220,16 @@ def validate_part(source: SourceDocument) -> tuple[DocumentPart, dict[str, Any]]
 def _rules(raw: dict[str, Any], source: SourceDocument) -> list[Problem]:
     """Checks beyond types, on the raw mapping so they run even when a type is wrong."""
     problems = []
+    if "version" not in raw and "dt-id" not in raw:
+        problems.append(
+            source.problem(
+                "required key `version` is missing (only a Twinbase document, one with `dt-id`, "
+                'may leave it out); write the dt-document version, such as "1.0"',
+                ("version",),
+            )
+        )
+    elif "version" in raw and raw["version"] is None:
+        problems.append(source.problem('version is empty; write one, such as "1.0"', ("version",)))
     version = _number_to_text(raw.get("version"))
     if isinstance(version, str) and not SUPPORTED_VERSION.match(version):
         problems.append(
@@ -196,14 +248,28 @@ def _rules(raw: dict[str, Any], source: SourceDocument) -> list[Problem]:
             )
         )
     ids = [raw.get("id"), raw.get("dt-id")]
-    if all(isinstance(x, str) for x in ids) and ids[0] != ids[1]:
+    if all(isinstance(x, str) for x in ids) and ids[0] != ids[1] and not is_placeholder(ids[1]):
         problems.append(source.problem("`id` and `dt-id` name different twins", ("dt-id",)))
+    problems.extend(_time_problems(raw, source))
     problems.extend(_duplicates(raw.get("features"), ("features",), "feature", source))
     interface = raw.get("interface")
     if isinstance(interface, dict):
         for section in ("signals", "properties", "commands"):
             path = ("interface", section)
             problems.extend(_duplicates(interface.get(section), path, section[:-1], source))
+    return problems
+
+
+def _time_problems(raw: dict[str, Any], source: SourceDocument) -> list[Problem]:
+    """The platform's timestamps are replaced, but one a document brings may set a new twin's
+    creation time, so each must be a time twinlink can hold (int64 nanoseconds)."""
+    problems = []
+    for key in PLATFORM_KEYS:
+        read = machine_ns if key.endswith("Machine") else human_ns
+        try:
+            read(raw.get(key))
+        except TimeRangeError as err:
+            problems.append(source.problem(str(err), (key,)))
     return problems
 
 
@@ -247,8 +313,8 @@ def _plain_data_problems(value: Any, path: Path, source: SourceDocument) -> list
             for i, item in enumerate(value)
             for p in _plain_data_problems(item, (*path, i), source)
         ]
-    if isinstance(value, int) and not isinstance(value, bool) and not -(2**63) <= value < 2**63:
-        return [source.problem("integers must fit in 64 bits; quote the number to keep it", path)]
+    if isinstance(value, int) and not isinstance(value, bool) and not fits_int64(value):
+        return [source.problem(int64_problem(value), path)]
     if isinstance(value, float) and not math.isfinite(value):
         return [source.problem("not-a-number and infinite values are not allowed", path)]
     if value is None or isinstance(value, str | int | float | bool):
@@ -259,10 +325,13 @@ def _plain_data_problems(value: Any, path: Path, source: SourceDocument) -> list
 def _normalised(raw: dict[str, Any], part: DocumentPart) -> dict[str, Any]:
     """The document as stored: the input mapping with text fields made text."""
     out = dict(raw)
-    out["version"] = part.version
+    if part.version is not None:
+        out["version"] = part.version
     out["privacy"] = part.privacy
     for key in PLATFORM_KEYS:
         out.pop(key, None)
+    if is_placeholder(out.get("hosting-iri")):
+        del out["hosting-iri"]  # the twin's address here, which the reader's document shows
     return out
 
 
@@ -300,6 +369,17 @@ def _message(e: Any) -> str:
     if msg.startswith("Value error, "):
         msg = msg[len("Value error, ") :]
     got = e.get("input")
+    if kind == "float_type" and isinstance(got, str) and _reads_as_number(got):
+        # YAML 1.1 reads `1e3` as text: its floats need a dot (and a sign in the exponent).
+        return f"{msg} (got the text {got!r}; write a number without quotes, such as 1.0e+3)"
     if kind.endswith("_type") and not isinstance(got, dict | list):
         return f"{msg} (got {got!r})"
     return msg
+
+
+def _reads_as_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True

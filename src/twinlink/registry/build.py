@@ -5,6 +5,7 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Any
 
+from twinlink.domain.doctime import TimeRangeError, human_ns, machine_ns
 from twinlink.domain.document import DocumentPart
 from twinlink.domain.merge import level_order
 from twinlink.store.records import Edge, SearchRow
@@ -117,24 +118,10 @@ def human_time_or_none(ns: int | None) -> str | None:
 
 
 def imported_created_ns(raw: dict[str, Any]) -> int | None:
-    """The creation time a document brings with it (`createdMachine` or `createdHuman`)."""
-    machine = raw.get("createdMachine")
-    if machine is not None:
-        try:
-            seconds = float(str(machine).strip())
-        except ValueError:
-            pass
-        else:
-            if 0 < seconds < 1e11:
-                return int(seconds * 1_000_000_000)
-    human = raw.get("createdHuman")
-    if isinstance(human, str):
-        try:
-            moment = datetime.fromisoformat(human.strip().replace("Z", "+00:00"))
-        except ValueError:
-            return None
-        if moment.tzinfo is None:
-            moment = moment.replace(tzinfo=UTC)
-        whole = moment.replace(microsecond=0)
-        return int(whole.timestamp()) * 1_000_000_000 + moment.microsecond * 1000
-    return None
+    """The creation time a document brings with it (`createdMachine`, else `createdHuman`);
+    None when it brings none that reads as a time. Validation refused those out of range."""
+    try:
+        machine = machine_ns(raw.get("createdMachine"))
+        return machine if machine is not None else human_ns(raw.get("createdHuman"))
+    except TimeRangeError:
+        return None

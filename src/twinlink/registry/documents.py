@@ -5,12 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import orjson
-
 from twinlink.domain.document import DocumentPart, validate_part
 from twinlink.domain.errors import DocumentError, DocumentTooLargeError, Problem
+from twinlink.domain.jsontext import JsonTextError, loads, loads_document
 from twinlink.domain.slug import slug_for
-from twinlink.domain.yamlsource import SourceDocument, parse_yaml_stream
+from twinlink.domain.yamlsource import MAX_DEPTH, SourceDocument, parse_yaml_stream
 
 REFUSED = "The DT document has problems; nothing was stored."
 
@@ -58,12 +57,20 @@ def parse_documents(body: bytes, content_type: str, max_bytes: int) -> list[Sour
 
 def _json_documents(body: bytes, text: str) -> list[SourceDocument]:
     try:
-        data = orjson.loads(body)
-    except orjson.JSONDecodeError as err:
+        # Integers stay exact and a key given twice is refused, as in YAML documents.
+        data = loads_document(body)
+    except JsonTextError as err:
         raise DocumentError(
-            "The document is not valid JSON; nothing was stored.",
-            [Problem(err.msg, line=err.lineno, column=err.colno)],
-        ) from err
+            REFUSED
+            if _readable_json(body)
+            else "The document is not valid JSON; nothing was stored.",
+            [Problem(err.reason, line=err.line, column=err.column)],
+        ) from None
+    except RecursionError:  # msgspec stops at Python's recursion limit (about 1 000 levels)
+        raise DocumentError(
+            "The document is too deeply nested; nothing was stored.",
+            [Problem(f"more than {MAX_DEPTH} levels")],
+        ) from None
     if isinstance(data, dict):
         try:
             # JSON is YAML: parsing it again gives the line and column of every value.
@@ -73,6 +80,15 @@ def _json_documents(body: bytes, text: str) -> list[SourceDocument]:
     if isinstance(data, list) and data:
         return [SourceDocument(item, {}, i) for i, item in enumerate(data)]
     raise DocumentError(REFUSED, [Problem("expected an object or a non-empty list of objects")])
+
+
+def _readable_json(body: bytes) -> bool:
+    """Whether the text is JSON at all (the error is then in what it says, not its syntax)."""
+    try:
+        loads(body)
+    except (JsonTextError, RecursionError):
+        return False
+    return True
 
 
 def group_by_twin(docs: list[SourceDocument], slug: str | None) -> list[TwinParts]:
