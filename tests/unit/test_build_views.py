@@ -1,5 +1,10 @@
 from __future__ import annotations
 
+from typing import Any
+
+import orjson
+import pytest
+
 from twinlink.domain.document import validate_part
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.build import (
@@ -9,7 +14,8 @@ from twinlink.registry.build import (
     machine_time,
     search_rows,
 )
-from twinlink.registry.views import relation_entries, render_document
+from twinlink.registry.readback import is_view_of
+from twinlink.registry.views import declared_entries, relation_entries, render_document
 from twinlink.store.records import Edge, TwinRecord
 
 
@@ -105,3 +111,68 @@ def test_render_document_order_times_and_hosting_iri() -> None:
     assert doc["relations"] == [{"relationType": "parent", "dt-id": "http://d/hall"}]
     assert doc["hosting-iri"] == "http://host/twins/crane"
     assert doc["createdMachine"] == "1000000000"
+
+
+def test_imported_times_are_exact_and_may_be_before_1970() -> None:
+    assert imported_created_ns({"createdMachine": "1605277810.555"}) == 1_605_277_810_555_000_000
+    assert imported_created_ns({"createdMachine": -86400}) == -86_400 * 10**9
+    assert imported_created_ns({"createdHuman": "1969-12-31"}) == -86_400 * 10**9
+    # Out of range was refused by validation; here it reads as no time rather than overflow.
+    assert imported_created_ns({"createdMachine": 9_300_000_000}) is None
+
+
+def test_relation_entries_keep_the_keys_the_twin_wrote() -> None:
+    edges = [Edge("P", "parent", "X", "X", "public"), Edge("X", "parent", "C", "C", "public")]
+    written = {"relationType": "parent", "dt-id": "P", "note": "bolted"}
+    parts = {"public": {"relations": [written]}}
+    assert relation_entries("X", edges, "id", declared_entries(parts)) == [
+        written,  # as written, `dt-id` and all
+        {"relationType": "child", "id": "C"},  # declared by C: only what the graph knows
+    ]
+
+
+def _twin() -> TwinRecord:
+    return TwinRecord(1, "crane", "urn:crane", "Crane", 10**18, 10**18, "public", [])
+
+
+PARTS: dict[str, dict[str, Any]] = {
+    "public": {
+        "version": "1.0",
+        "privacy": "public",
+        "id": "urn:crane",
+        "name": "Crane",
+        "features": [{"name": "OPC UA", "requirement": "ask"}],
+        "relations": [{"relationType": "parent", "id": "urn:hall", "note": "rails"}],
+    },
+    "group-1": {
+        "version": "0.1",
+        "privacy": "group-1",
+        "id": "urn:crane",
+        "features": [{"name": "OPC UA", "address": "10.0.0.7"}],
+    },
+    "private": {"version": "1.0", "privacy": "private", "id": "urn:crane", "secret": "s"},
+}
+EDGES = [Edge("urn:hall", "parent", "urn:crane", "urn:crane", "public")]
+URL = "http://host/twins/crane"
+
+
+@pytest.mark.parametrize(
+    ("levels", "level"),
+    [
+        (["public", "group-1"], "group-1"),
+        (list(PARTS), "private"),
+        (["public"], "public"),
+        (["private"], "private"),
+    ],
+)
+def test_a_view_read_back_is_recognised_for_any_reader(levels: list[str], level: str) -> None:
+    view = render_document(_twin(), {lv: PARTS[lv] for lv in levels}, EDGES, URL)
+    body = orjson.loads(orjson.dumps(view))
+    assert is_view_of(body, level, PARTS, _twin(), URL, EDGES)
+    changed = {**body, "name": "Renamed"}
+    assert not is_view_of(changed, level, PARTS, _twin(), URL, EDGES)
+    # Relations: one the graph lacks, or the twin's own entry without its note, is a change.
+    extra = {**body, "relations": [*body["relations"], {"relationType": "child", "id": "urn:x"}]}
+    assert not is_view_of(extra, level, PARTS, _twin(), URL, EDGES)
+    bare = {**body, "relations": [{"relationType": "parent", "id": "urn:hall"}]}
+    assert is_view_of(bare, level, PARTS, _twin(), URL, EDGES) is ("public" not in levels)

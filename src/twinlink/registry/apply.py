@@ -14,8 +14,9 @@ from twinlink.domain.slug import SLUG, slug_for
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.build import declared_edges, imported_created_ns, search_rows
 from twinlink.registry.documents import REFUSED, TwinParts
+from twinlink.registry.readback import as_stored, is_view_of, refuse_merged_view
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import TwinRecord, TwinWrite
+from twinlink.store.records import Edge, TwinRecord, TwinWrite
 
 Outcome = Literal["created", "updated", "unchanged"]
 Mode = Literal["apply", "create", "update"]
@@ -96,7 +97,10 @@ class Applier:
                 if slug or group.explicit_slug:
                     raise ConflictError(f"the slug {new_slug!r} is asked for twice or taken")
                 new_slug = await self._free_slug(new_slug, reserved)
-            dt_id = group.global_id or self.canonical_url(new_slug)
+            # Twinbase's `dt-id: autoassign|BASE` names the twin BASE/{slug}.
+            base = next((p.id_base for p, _, _ in group.parts.values() if p.id_base), None)
+            assigned = f"{base}/{new_slug}" if base else self.canonical_url(new_slug)
+            dt_id = group.global_id or assigned
             old_parts = None
             parts = {}
             imported = [imported_created_ns(src.data) for _, _, src in group.parts.values()]
@@ -112,11 +116,40 @@ class Applier:
                 ],
             )
         reserved.add(new_slug)
+        unchanged: set[str] = set()
+        if existing is not None and old_parts is not None:
+            unchanged = await self._unchanged_levels(existing, group, old_parts)
+        urls = {self.canonical_url(new_slug)}
+        if existing is not None:
+            urls.add(self.canonical_url(existing.slug))
         for level, (_, body, _) in group.parts.items():
-            parts[level] = body
+            if level not in unchanged:
+                parts[level] = as_stored(body, dt_id, urls)
         return await self.plan_write(
             principal, existing, new_slug, dt_id, parts, created, old_parts
         )
+
+    async def _unchanged_levels(
+        self, twin: TwinRecord, group: TwinParts, stored: dict[str, dict[str, Any]]
+    ) -> set[str]:
+        """The levels whose stored part stays: the document equals it, or is a view of the twin
+        read back (GET then apply). A changed merged view is refused (see `readback`)."""
+        edges: list[Edge] | None = None
+        canonical = self.canonical_url(twin.slug)
+        unchanged = set()
+        for level, (_, body, source) in group.parts.items():
+            kept = stored.get(level)
+            if body == kept:
+                unchanged.add(level)
+                continue
+            if kept is not None:
+                if edges is None:
+                    edges = await self.store.edges_touching([twin.dt_id])
+                if is_view_of(body, level, stored, twin, canonical, edges):
+                    unchanged.add(level)
+                    continue
+            refuse_merged_view(source, level, stored, twin.slug)
+        return unchanged
 
     async def plan_write(
         self,

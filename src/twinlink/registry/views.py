@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from twinlink.domain.merge import merge_parts
+from twinlink.domain.merge import level_order, merge_parts
 from twinlink.registry.build import human_time, machine_time
 from twinlink.store.records import Edge, TwinRecord
 
@@ -12,8 +12,38 @@ _LEADING = ("version", "privacy", "id", "dt-id", "hosting-iri", "name", "descrip
 _TIMES = ("createdMachine", "createdHuman", "modifiedMachine", "modifiedHuman")
 
 
-def relation_entries(dt_id: str, edges: list[Edge], id_key: str) -> list[dict[str, str]]:
-    seen: set[tuple[str, str]] = set()
+RelationKey = tuple[str, str]  # (relationType, the other twin's id), seen from this twin
+
+
+def relation_key(entry: Any) -> RelationKey | None:
+    """The key of a relation entry as a document writes it; None for one that is not whole."""
+    if not isinstance(entry, dict):
+        return None
+    kind, other = entry.get("relationType"), entry.get("id") or entry.get("dt-id")
+    return (kind, other) if isinstance(kind, str) and isinstance(other, str) else None
+
+
+def declared_entries(parts: dict[str, dict[str, Any]]) -> dict[RelationKey, dict[str, Any]]:
+    """The relation entries the parts write, as written (custom keys too); where several parts
+    write the same relation, the most private one's entry, as merging would give."""
+    out: dict[RelationKey, dict[str, Any]] = {}
+    for level in sorted(parts, key=level_order):
+        for entry in parts[level].get("relations") or []:
+            key = relation_key(entry)
+            if key is not None:
+                out[key] = entry
+    return out
+
+
+def relation_entries(
+    dt_id: str,
+    edges: list[Edge],
+    id_key: str,
+    declared: dict[RelationKey, dict[str, Any]] | None = None,
+) -> list[dict[str, Any]]:
+    """One entry per relation of the graph; a relation the twin's own parts write keeps its
+    entry as written (`note: ...` and other keys), the others get `relationType` and the id."""
+    seen: set[RelationKey] = set()
     out = []
     for e in sorted(edges, key=lambda e: (e.kind, e.source, e.target)):
         if e.kind == "parent":
@@ -22,7 +52,8 @@ def relation_entries(dt_id: str, edges: list[Edge], id_key: str) -> list[dict[st
             entry = ("sibling", e.target if e.source == dt_id else e.source)
         if entry not in seen and entry[1] != dt_id:
             seen.add(entry)
-            out.append({"relationType": entry[0], id_key: entry[1]})
+            written = (declared or {}).get(entry)
+            out.append(dict(written) if written else {"relationType": entry[0], id_key: entry[1]})
     return out
 
 
@@ -42,7 +73,7 @@ def render_document(
         "modifiedMachine": machine_time(twin.modified_ns),
         "modifiedHuman": human_time(twin.modified_ns),
     }
-    relations = relation_entries(twin.dt_id, edges, id_key)
+    relations = relation_entries(twin.dt_id, edges, id_key, declared_entries(parts))
     out: dict[str, Any] = {k: merged[k] for k in _LEADING if k in merged}
     out.update(times)
     for key, value in merged.items():
