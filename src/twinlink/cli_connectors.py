@@ -140,8 +140,8 @@ def connector_file(text: str) -> list[dict[str, Any]] | None:
     None when the text is something else (DT documents)."""
     try:
         docs = [d for d in yaml.safe_load_all(text) if d is not None]
-    except yaml.YAMLError:
-        return None  # the server names the line
+    except (yaml.YAMLError, ValueError, RecursionError):
+        return None  # the server names the line (ValueError: an integer of over 4 300 digits)
     if docs and all(isinstance(d, dict) and set(d) == {"twin", "connectors"} for d in docs):
         return docs
     return None
