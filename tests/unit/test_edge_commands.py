@@ -49,6 +49,39 @@ async def test_commands_run_their_handlers_and_report_results(fake: FakeServer) 
         assert order.index(("delivered", cid)) < order.index(("result", cid))
 
 
+async def test_close_waits_until_the_server_has_the_command_answers(fake: FakeServer) -> None:
+    async with device(fake) as dev:
+
+        @dev.on_command("go")
+        async def go(args: Msg) -> str:
+            return "gone"
+
+        assert await dev.wait_connected(TIMEOUT)
+        fake.push({"type": "command", "id": "g", "name": "go", "args": {}})
+
+        async def result_queued() -> None:
+            while dev._dispatcher._results.get("g") is None:
+                await asyncio.sleep(0.001)
+
+        await asyncio.wait_for(result_queued(), TIMEOUT)
+        # ... and leave at once, maybe before the connection's sender had a turn to send it.
+    [result] = fake.of_type("result")
+    assert (result["id"], result["result"]) == ("g", "gone")
+    assert [m["type"] for m in fake.received] == ["delivered", "result", "ping"]
+
+
+async def test_a_round_trip_lost_with_its_connection_is_made_again(fake: FakeServer) -> None:
+    async with device(fake) as dev:
+        assert await dev.wait_connected(TIMEOUT)
+        fake.answer_pings = False  # a ping the server never answers: lost with its connection
+        trip = asyncio.ensure_future(dev._round_trip(TIMEOUT))
+        await fake.until(lambda f: len(f.of_type("ping")) == 1)
+        fake.answer_pings = True
+        fake.drop()
+        await asyncio.wait_for(trip, TIMEOUT)  # its ping went out again on the next connection
+        assert dev.connections == 2 and len(fake.of_type("ping")) == 2
+
+
 async def test_desired_and_reported_properties(fake: FakeServer) -> None:
     fake.welcome_extra = {"desired": {"K": 0.85}, "desired_version": 3}
     fake.reported_extra = {"desired": {"mode": "fast"}}

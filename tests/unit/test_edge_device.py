@@ -44,6 +44,7 @@ class FakeServer:
         self.reported_version = 0
         self.reported_extra: Msg = {}
         self.answer_reports = True
+        self.answer_pings = True
         self.close_at_once: tuple[int, str] | None = None  # as the server does a bad token
         self.port = 0
         self._cond = threading.Condition()
@@ -179,7 +180,9 @@ class FakeServer:
             self.received.append(msg)
             self._cond.notify_all()
             if msg["type"] == "ping":
-                return {"type": "pong", "server_time": time.time_ns()}
+                return (
+                    {"type": "pong", "server_time": time.time_ns()} if self.answer_pings else None
+                )
             if msg["type"] == "reported" and self.answer_reports:
                 self.reported_version += 1
                 return {

@@ -103,7 +103,7 @@ class Connect:
             **options,
         )
         # Commands without a handler of their own wait until receive() takes them.
-        self.device.aio._dispatcher.inbox = Inbox()
+        self._inbox = self.device.aio._dispatcher.inbox = Inbox()
         self.device.start()
         try:
             self._connect(connect_timeout)
@@ -147,17 +147,17 @@ class Connect:
             wait = max(0.0, timeout_ms / 1000)
         else:
             wait = IDLE_WAIT if self._idle and not self._sent else 0.0
-        taken = self.device._call(self._take(wait))
+        # Taking happens on the device's loop; an empty inbox needs no trip there (len() is
+        # safe from this thread: a command that lands just after is taken by the next call).
+        taken = self.device._call(self._take(wait)) if wait or len(self._inbox) else []
         messages = [self._message(command) for command in taken]
         self._idle = not messages
         self._sent = False
         return {self.topic: messages} if messages else {}
 
     async def _take(self, wait: float) -> list[HeldCommand]:
-        dispatcher = self.device.aio._dispatcher
-        assert dispatcher.inbox is not None
-        await dispatcher.inbox.wait(wait)
-        return dispatcher.take()
+        await self._inbox.wait(wait)
+        return self.device.aio._dispatcher.take()
 
     def _message(self, command: HeldCommand) -> Message:
         name, args = command.name, command.args
