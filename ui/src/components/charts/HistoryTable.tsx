@@ -1,10 +1,11 @@
 import type { AggregateAnswer, AggregateFn } from "../../api/history";
+import { formatEpochMs } from "../common/time";
 import type { SignalSummary } from "./historyData";
 
 const MAX_ROWS = 100;
 
 function time(seconds: number | null): string {
-  return seconds === null ? "–" : new Date(seconds * 1000).toLocaleString();
+  return seconds === null ? "–" : formatEpochMs(seconds * 1000);
 }
 
 function num(value: number | null | undefined): string {

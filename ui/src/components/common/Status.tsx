@@ -23,8 +23,4 @@ export function Loading({ what = "Loading" }: { what?: string }) {
   return <div className="loading">{what}…</div>;
 }
 
-export function formatTime(iso: string | null | undefined): string {
-  if (!iso) return "never";
-  const date = new Date(iso);
-  return Number.isNaN(date.getTime()) ? iso : date.toLocaleString();
-}
+export { formatTime } from "./time";

@@ -2,6 +2,7 @@ import { connectorAction, listConnectors, type Connector, type ConnectorAction }
 import { useApi } from "../../hooks/useApi";
 import { useAction } from "../admin/useAction";
 import { Empty, ErrorMessage, Loading } from "../common/Status";
+import { formatEpochMs } from "../common/time";
 
 const GOOD = new Set(["listening", "connected"]);
 const BAD = new Set(["error", "reconnecting"]);
@@ -13,7 +14,7 @@ function StateBadge({ connector: c }: { connector: Connector }) {
 }
 
 function fromNs(ns: number | null): string {
-  return ns === null ? "never" : new Date(ns / 1e6).toLocaleString();
+  return ns === null ? "never" : formatEpochMs(ns / 1e6);
 }
 
 interface RowProps {

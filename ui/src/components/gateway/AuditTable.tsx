@@ -1,6 +1,7 @@
 import { Link } from "react-router-dom";
 import type { AuditEntry } from "../../api/types";
 import { Empty } from "../common/Status";
+import { formatClock, formatEpochMs } from "../common/time";
 
 function ms(value: number | null): string {
   return value === null || value === undefined ? "—" : value.toFixed(1);
@@ -25,7 +26,7 @@ export function AuditTable({ entries }: { entries: AuditEntry[] }) {
       <tbody>
         {entries.map((e) => (
           <tr key={e.id}>
-            <td>{new Date(e.time * 1000).toLocaleTimeString()}</td>
+            <td title={formatEpochMs(e.time * 1000)}>{formatClock(e.time * 1000)}</td>
             <td>
               <span className={e.status < 400 ? "status status-ok" : "status status-bad"} title={e.outcome}>
                 {e.status}

@@ -1,6 +1,7 @@
 // What a processor is set to, how it is doing, and what its running blueprint reads and writes.
 import type { ReactNode } from "react";
 import type { FmuVariable, InputMap, Processor } from "../../api/processors";
+import { formatClock } from "../common/time";
 import { FmuVariables } from "./FmuVariables";
 import { formatCount, formatMb, formatMicros, formatMillis, formatNs } from "./format";
 import { StateBadge } from "./StateBadge";
@@ -72,7 +73,7 @@ export function ProcessorStatus({ processor: p }: { processor: Processor }) {
     <dl className="props" aria-label="Status">
       <Row term="State">
         <StateBadge state={p.state} />
-        {p.state === "backoff" && p.restart_at && <span className="muted"> restart at {new Date(p.restart_at * 1000).toLocaleTimeString()}</span>}
+        {p.state === "backoff" && p.restart_at && <span className="muted"> restart at {formatClock(p.restart_at * 1000)}</span>}
       </Row>
       <Row term="Process id">{p.pid ?? <span className="muted">none</span>}</Row>
       <Row term="Last error">{p.last_error ? <span className="proc-error-text">{p.last_error}</span> : <span className="muted">none</span>}</Row>

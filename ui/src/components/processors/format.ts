@@ -1,9 +1,10 @@
 // How the figures of processors are shown.
+import { formatEpochMs } from "../common/time";
 
 /** A time in nanoseconds since the epoch, as local date and time. */
 export function formatNs(ns: number | null | undefined): string {
   if (!ns) return "—";
-  return new Date(Math.floor(ns / 1e6)).toLocaleString();
+  return formatEpochMs(Math.floor(ns / 1e6));
 }
 
 /** Seconds as microseconds ("12.3 µs"), for step times. */
