@@ -33,8 +33,11 @@ export interface PropertyDecl extends ValueDecl {
 }
 
 export interface TwinInterface {
+  signals: ValueDecl[];
   commands: CommandDecl[];
   properties: PropertyDecl[];
+  /** The device a command goes to when none is named (`interface.default_device`). */
+  defaultDevice?: string;
 }
 
 export const COMMAND_STATES = ["pending", "delivered", "succeeded", "failed", "expired"] as const;
@@ -111,7 +114,8 @@ function valueDecl(raw: Record<string, unknown>): ValueDecl {
   };
 }
 
-/** The commands and properties a twin's document declares (empty lists when it declares none). */
+/** The signals, commands and properties a twin's document declares (empty lists when it
+ * declares none). */
 export function readInterface(document: TwinDocument): TwinInterface {
   const raw = isRecord(document.interface) ? document.interface : {};
   const commands = named(raw.commands).map((c) => ({
@@ -124,7 +128,15 @@ export function readInterface(document: TwinDocument): TwinInterface {
     })),
   }));
   const properties = named(raw.properties).map((p) => ({ ...valueDecl(p), writable: p.writable === true }));
-  return { commands, properties };
+  const signals = named(raw.signals).map(valueDecl);
+  return { signals, commands, properties, defaultDevice: optionalText(raw.default_device) };
+}
+
+/** The unit of each signal the interface declares with one. */
+export function signalUnits(document: TwinDocument): Map<string, string> {
+  const units = new Map<string, string>();
+  for (const s of readInterface(document).signals) if (s.unit) units.set(s.name, s.unit);
+  return units;
 }
 
 /** Whether a command is still under way (not succeeded, failed or expired). */

@@ -1,5 +1,8 @@
-import { describe, expect, it } from "vitest";
-import { aggregateQuery, downsampleQuery, fileNameFrom, isPlottable } from "./history";
+import { afterEach, describe, expect, it, vi } from "vitest";
+import { jsonResponse, mockFetch } from "../test/fetch";
+import { aggregateQuery, downsampleQuery, fileNameFrom, isPlottable, lastBefore } from "./history";
+
+afterEach(() => vi.unstubAllGlobals());
 
 describe("history API helpers", () => {
   it("reads the file name of a Content-Disposition header", () => {
@@ -18,5 +21,27 @@ describe("history API helpers", () => {
 
   it("plots numbers, integers and bools, not text", () => {
     expect(["integer", "number", "bool", "string", "mixed"].map((k) => isPlottable(k as never))).toEqual([true, true, true, false, false]);
+  });
+
+  it("finds each signal's last sample before a time: from /latest, else the last aggregate", async () => {
+    const start = 1_800_000_000e9;
+    const fetch = mockFetch((url) => {
+      if (url.includes("/latest")) {
+        return jsonResponse({
+          values: { still: { time: start - 3600e9, value: true }, moved: { time: start + 5e9, value: 2 }, text: { time: 1, value: "on" } },
+        });
+      }
+      return jsonResponse({ rows: [{ time: start - 60e9, values: { moved: { last: 1.5 } } }] });
+    });
+    const found = await lastBefore("crane", "telemetry", ["still", "moved", "text", "never"], start, 900);
+    expect(found).toEqual({ still: { time: start - 3600e9, value: 1 }, moved: { time: start - 60e9, value: 1.5 } });
+    const urls = fetch.mock.calls.map((c) => decodeURIComponent(String(c[0])));
+    expect(urls[0]).toBe("/api/v1/twins/crane/streams/telemetry/latest?signals=still,moved,text,never");
+    // Only the signal that changed since the start needs the second read, over 900 s before it.
+    const end = start - 1000;
+    expect(urls[1]).toBe(
+      `/api/v1/twins/crane/streams/telemetry/aggregate?bucket=900s&fn=last&start=${end - 900e9}&end=${end}&signals=moved`,
+    );
+    expect(urls).toHaveLength(2);
   });
 });

@@ -46,6 +46,8 @@ export const AGGREGATE_FNS: AggregateFn[] = ["avg", "min", "max", "count", "firs
 
 export interface AggregateAnswer {
   stream: string;
+  start?: number | null;
+  end?: number | null;
   bucket: string;
   bucket_ns: number;
   fn: AggregateFn[];
@@ -54,6 +56,16 @@ export interface AggregateAnswer {
 }
 
 export type ExportFormat = "csv" | "jsonl";
+
+/** A sample as a number (bools as 0 and 1), its time in ns. */
+export interface TimedSample {
+  time: number;
+  value: number;
+}
+
+interface LatestAnswer {
+  values: Record<string, { time: number; value: unknown }>;
+}
 
 function streamPath(slug: string, stream: string, what: string): string {
   return `/api/v1/twins/${enc(slug)}/streams/${enc(stream)}/${what}`;
@@ -99,6 +111,51 @@ export function aggregate(
     query: aggregateQuery(signals, range, bucket, fn),
     signal,
   });
+}
+
+function plotted(value: unknown): number | null {
+  if (typeof value === "number") return value;
+  if (typeof value === "boolean") return value ? 1 : 0;
+  return null;
+}
+
+/** Per signal, its last sample before `startNs` (the value a signal sent on change holds at a
+ * range's start), for the signals that have one. Two cheap reads: `/latest` answers every
+ * signal that sent nothing since; for the others, the `last` aggregate over `lookbackS` before
+ * the start, whose time is then its bucket's start (a lower bound). The API has no "newest
+ * sample before a time"; with one, this would be a single exact read. */
+export async function lastBefore(
+  slug: string,
+  stream: string,
+  signals: string[],
+  startNs: number,
+  lookbackS: number,
+  signal?: AbortSignal,
+): Promise<Record<string, TimedSample>> {
+  const found: Record<string, TimedSample> = {};
+  if (signals.length === 0) return found;
+  const latest = await apiFetch<LatestAnswer>(streamPath(slug, stream, "latest"), { query: { signals: signals.join(",") }, signal });
+  const since: string[] = [];
+  for (const name of signals) {
+    const sample = latest.values[name];
+    if (!sample) continue; // never sent
+    const value = plotted(sample.value);
+    if (sample.time >= startNs) since.push(name);
+    else if (value !== null) found[name] = { time: sample.time, value };
+  }
+  if (since.length === 0) return found;
+  // ns near 2^60 are floats in JavaScript (256 ns apart): end a microsecond before the start.
+  const end = Math.round(startNs) - 1000;
+  const lookback = Math.max(1, Math.round(lookbackS));
+  const range = { start: String(end - lookback * 1e9), end: String(end) };
+  const answer = await aggregate(slug, stream, since, range, `${lookback}s`, "last", signal);
+  for (const row of answer.rows) {
+    for (const name of since) {
+      const value = row.values[name]?.last;
+      if (typeof value === "number") found[name] = { time: row.time, value };
+    }
+  }
+  return found;
 }
 
 function exportQuery(signals: string[], range: TimeRange, format: ExportFormat) {

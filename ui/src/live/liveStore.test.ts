@@ -45,6 +45,21 @@ describe("LiveStore", () => {
     expect(store.points).toBe(1);
   });
 
+  it("knows each signal's last value before a time: held, else the seed from the API", () => {
+    const store = new LiveStore(REFS, 4);
+    // Sent on change: the angle's only sample is from long before the window.
+    store.seed("telemetry", { angle: { time: 10e9, value: 0.25 }, on: { time: 95e9, value: 1 } });
+    expect(store.before(90)).toEqual([{ time: 10, value: 0.25 }, null, null]);
+    store.addSamples(message("telemetry", [{ time: 92e9, values: { angle: 0.5 } }]));
+    expect(store.before(90)[0]).toEqual({ time: 10, value: 0.25 });
+    expect(store.before(93)[0]).toEqual({ time: 92, value: 0.5 });
+    // Once the buffer has dropped samples, a seed may be older than a dropped one: unknown.
+    for (let t = 100; t < 104; t++) store.addSamples(message("telemetry", [{ time: t * 1e9, values: { angle: t } }]));
+    expect(store.before(90)[0]).toBeNull();
+    store.clearData();
+    expect(store.before(1000)).toEqual([null, null, null]);
+  });
+
   it("limits the rate only when a window would not fit in memory", () => {
     expect(capacityPerSignal(2)).toBe(1 << 20);
     expect(maxRateFor(2, 10)).toBeUndefined();

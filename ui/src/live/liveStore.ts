@@ -1,7 +1,8 @@
 // What the Live tab has received: one ring buffer per chosen signal, statistics per stream,
 // and the count of samples received. Messages only append here; drawing reads it once per
 // animation frame.
-import type { DownsampleAnswer } from "../api/history";
+import type { DownsampleAnswer, TimedSample } from "../api/history";
+import type { TimedValue } from "../components/charts/steps";
 import { decimateMinMax, type AlignedSeries } from "./decimate";
 import { LiveDecimator } from "./liveDecimator";
 import { StreamStats } from "./delayStats";
@@ -38,7 +39,9 @@ export class LiveStore {
   readonly refs: SignalRef[];
   private readonly buffers: RingBuffer[];
   private readonly decimator: LiveDecimator;
-  private readonly byStream = new Map<string, { signal: string; buffer: RingBuffer }[]>();
+  private readonly byStream = new Map<string, { signal: string; buffer: RingBuffer; index: number }[]>();
+  /** Per signal, its last sample before the window when the subscription started (seconds). */
+  private seeds: (TimedValue | null)[];
   readonly stats = new Map<string, StreamStats>();
   /** Live samples received since the store was made (history backfill not counted). */
   points = 0;
@@ -49,9 +52,10 @@ export class LiveStore {
     this.refs = refs;
     this.buffers = refs.map(() => new RingBuffer(capacity));
     this.decimator = new LiveDecimator(this.buffers);
+    this.seeds = refs.map(() => null);
     refs.forEach((ref, i) => {
       const list = this.byStream.get(ref.stream) ?? [];
-      list.push({ signal: ref.signal, buffer: this.buffers[i] as RingBuffer });
+      list.push({ signal: ref.signal, buffer: this.buffers[i] as RingBuffer, index: i });
       this.byStream.set(ref.stream, list);
       if (!this.stats.has(ref.stream)) this.stats.set(ref.stream, new StreamStats());
     });
@@ -91,9 +95,34 @@ export class LiveStore {
     this.version++;
   }
 
+  /** The last sample before the window of each signal of `stream`, from the API (ns). */
+  seed(stream: string, samples: Record<string, TimedSample>): void {
+    for (const { signal, index } of this.byStream.get(stream) ?? []) {
+      const sample = samples[signal];
+      if (sample) this.seeds[index] = { time: sample.time / 1e9, value: sample.value };
+    }
+    this.version++;
+  }
+
+  /** Per signal, its last sample before `time` (seconds): the newest one held before it, else
+   * the seed (older than anything held). A full buffer has dropped samples, maybe newer than
+   * the seed: then nothing is known. */
+  before(time: number): (TimedValue | null)[] {
+    return this.buffers.map((buffer, i) => {
+      const at = buffer.lowerBound(time) - 1;
+      if (at >= 0) {
+        const value = buffer.valueAt(at);
+        return Number.isNaN(value) ? null : { time: buffer.timeAt(at), value };
+      }
+      const seed = this.seeds[i];
+      return seed && seed.time < time && buffer.length < buffer.capacity ? seed : null;
+    });
+  }
+
   /** Forget the data (not the count of samples received): before subscribing again. */
   clearData(): void {
     for (const buffer of this.buffers) buffer.clear();
+    this.seeds = this.refs.map(() => null);
     for (const stream of this.stats.keys()) this.stats.set(stream, new StreamStats());
     this.version++;
   }

@@ -1,15 +1,19 @@
 // The Live tab's connection: one LiveClient per tab, one subscription per chosen stream (none
-// while paused), the window backfilled from history, and a snapshot of the figures for React
-// a few times a second (never once per message).
+// while paused), the window backfilled from history with each signal's value from before it
+// (a signal sent on change may have none in the window), and a snapshot of the figures for
+// React a few times a second (never once per message).
 import { useCallback, useEffect, useMemo, useRef, useState } from "react";
 import { getToken } from "../api/client";
-import { downsample } from "../api/history";
+import { downsample, lastBefore } from "../api/history";
 import type { StreamStatsSnapshot } from "./delayStats";
 import { LiveClient, liveUrl, type LiveState, type WebSocketLike } from "./liveClient";
 import { LiveStore, maxRateFor } from "./liveStore";
 import { byStream, formatRefs, type SignalRef } from "./selection";
 
 export const SNAPSHOT_MS = 250;
+/** How far before the window to look for a signal's value when it changed within the window
+ * (one that did not is answered by /latest, however old). */
+const LOOKBACK_S = 3600;
 
 export interface LiveSnapshot {
   points: number;
@@ -83,6 +87,10 @@ export function useLiveSession(options: LiveSessionOptions): LiveSession {
     store.clearData();
     const controller = new AbortController();
     const stops: (() => void)[] = [];
+    const failed = (what: string, stream: string) => (err: unknown) => {
+      if (!controller.signal.aborted) report(`${stream}: ${what} not loaded: ${err instanceof Error ? err.message : String(err)}`);
+    };
+    const windowStartNs = (serverNow() - windowS) * 1e9;
     for (const [stream, signals] of byStream(store.refs)) {
       stops.push(
         client.subscribe(
@@ -96,15 +104,16 @@ export function useLiveSession(options: LiveSessionOptions): LiveSession {
       );
       downsample(slug, stream, signals, { start: `-${windowS}s` }, backfillPoints.current(), controller.signal)
         .then((answer) => store.backfill(stream, answer))
-        .catch((err: unknown) => {
-          if (!controller.signal.aborted) report(`${stream}: history not loaded: ${err instanceof Error ? err.message : String(err)}`);
-        });
+        .catch(failed("history", stream));
+      lastBefore(slug, stream, signals, windowStartNs, Math.max(windowS, LOOKBACK_S), controller.signal)
+        .then((samples) => store.seed(stream, samples))
+        .catch(failed("the values before the window", stream));
     }
     return () => {
       controller.abort();
       for (const stop of stops) stop();
     };
-  }, [client, store, slug, windowS, paused, maxRate]);
+  }, [client, store, slug, windowS, paused, maxRate, serverNow]);
 
   useEffect(() => {
     setSnapshot(takeSnapshot(store));

@@ -4,6 +4,7 @@
 import { useEffect, useRef, useState } from "react";
 import type { LiveStore } from "../../live/liveStore";
 import { assignScales, magnitude, type ScaleKey } from "./scales";
+import { stepFrame } from "./steps";
 import { TimeChart, type TimeChartHandle } from "./TimeChart";
 
 export interface LiveChartProps {
@@ -17,6 +18,8 @@ export interface LiveChartProps {
   serverNow: () => number;
   /** Hands out the chart's width in columns, for the history backfill. */
   onColumns?: (columns: () => number) => void;
+  /** Each chosen signal's unit, if known. */
+  units?: (string | undefined)[];
 }
 
 /** A zoomed view only changes when data arrives; it need not be drawn more often than this. */
@@ -24,7 +27,7 @@ const ZOOMED_REDRAW_MS = 250;
 /** How often to check whether the series need a second y axis (that makes a new chart). */
 const SCALES_CHECK_MS = 1000;
 
-export function LiveChart({ store, windowS, paused, zoom, onZoom, onFollow, serverNow, onColumns }: LiveChartProps) {
+export function LiveChart({ store, windowS, paused, zoom, onZoom, onFollow, serverNow, onColumns, units = [] }: LiveChartProps) {
   const [handle, setHandle] = useState<TimeChartHandle | null>(null);
   const shown = useRef<[number, number] | null>(null);
   const [scales, setScales] = useState<ScaleKey[]>([]);
@@ -52,10 +55,13 @@ export function LiveChart({ store, windowS, paused, zoom, onZoom, onFollow, serv
       const minInterval = zoom ? ZOOMED_REDRAW_MS : (windowS * 1000) / columns;
       if (drawnVersion !== -1 && now - drawnAt < minInterval) return;
       const data = zoom ? store.frame(range[0], range[1], columns) : store.followFrame(range[1], windowS, columns);
-      handle.setData(data, range);
+      // Each signal's last value holds to the end of the window: one sent on change shows
+      // while it keeps its value, from before the window if need be.
+      const steps = stepFrame(data, { start: range[0], end: range[1], before: store.before(range[0]) });
+      handle.setData(steps, range);
       if (now - scalesCheckedAt > SCALES_CHECK_MS) {
         scalesCheckedAt = now;
-        const next = assignScales(data.slice(1).map((y) => magnitude(y as (number | null)[])));
+        const next = assignScales(steps.data.slice(1).map((y) => magnitude(y)));
         if (next.join(",") !== scalesKey) setScales(next);
       }
       shown.current = range;
@@ -68,7 +74,7 @@ export function LiveChart({ store, windowS, paused, zoom, onZoom, onFollow, serv
 
   return (
     <TimeChart
-      series={store.labels().map((label, i) => ({ label, scale: scales[i] }))}
+      series={store.labels().map((label, i) => ({ label, scale: scales[i], unit: units[i] }))}
       label={`Live chart of ${store.labels().join(", ")}`}
       onReady={setHandle}
       onZoom={onZoom}

@@ -1,22 +1,19 @@
 // The one place that knows uPlot: a time chart (x = seconds since the epoch) of several series.
 // Data comes either as a prop (history) or through the handle passed to `onReady` (live data,
-// set once per animation frame without going through React).
+// set once per animation frame without going through React). Every series is drawn as steps
+// and held stretches dashed (steps.ts); times are in the user's locale.
 import { useEffect, useRef } from "react";
 import type uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
 import "./charts.css";
-import type { AlignedSeries } from "../../live/decimate";
-import { meanStep, realGaps } from "./gaps";
+import { chartOptions, type ChartCallbacks, type ChartSeries } from "./chartOptions";
+import type { ChartFrame, Held } from "./steps";
 
-export interface ChartSeries {
-  label: string;
-  /** "y2" puts the series on a second axis on the right. */
-  scale?: "y" | "y2";
-}
+export type { ChartSeries } from "./chartOptions";
 
 export interface TimeChartHandle {
-  /** Show `data`; with `xRange` the x axis spans exactly that, else the data. */
-  setData: (data: AlignedSeries, xRange?: [number, number]) => void;
+  /** Show `frame`; with `xRange` the x axis spans exactly that, else the data. */
+  setData: (frame: ChartFrame, xRange?: [number, number]) => void;
   /** The plot's width in CSS pixels: how many columns are worth drawing. */
   columns: () => number;
 }
@@ -25,72 +22,15 @@ export interface TimeChartProps {
   series: ChartSeries[];
   /** What the chart shows, for assistive technology. */
   label: string;
-  data?: AlignedSeries;
+  frame?: ChartFrame;
+  /** What the x axis spans with `frame` (else the data). */
+  xRange?: [number, number];
   height?: number;
   onReady?: (handle: TimeChartHandle | null) => void;
   /** A range was selected by dragging over the chart (seconds). */
   onZoom?: (range: [number, number]) => void;
   /** The chart was double-clicked. */
   onResetZoom?: () => void;
-}
-
-export const PALETTE = ["#1f5fbf", "#d95f02", "#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#a6761d", "#555"];
-
-interface Callbacks {
-  onZoom?: (range: [number, number]) => void;
-  onResetZoom?: () => void;
-}
-
-/** Break a line only where it has no values for much longer than its usual step. */
-function refineGaps(u: uPlot, seriesIdx: number, idx0: number, idx1: number, gaps: uPlot.Series.Gaps): uPlot.Series.Gaps {
-  const xs = u.data[0];
-  const { min, max } = u.scales.x ?? {};
-  if (gaps.length === 0 || min === undefined || max === undefined || max <= min) return gaps;
-  const step = meanStep(xs, u.data[seriesIdx] as ArrayLike<number | null>, idx0, idx1);
-  return realGaps(gaps as [number, number][], step, u.bbox.width / (max - min));
-}
-
-/** Wide enough for the longest tick label (about 7 px a character at the chart's font). */
-function axisSize(_u: uPlot, values: string[] | null): number {
-  const longest = (values ?? []).reduce((n, v) => Math.max(n, v.length), 0);
-  return Math.max(40, 18 + 7 * longest);
-}
-
-function chartOptions(series: ChartSeries[], width: number, height: number, callbacks: { current: Callbacks }): uPlot.Options {
-  const hasY2 = series.some((s) => s.scale === "y2");
-  const axes: uPlot.Axis[] = [{}, { scale: "y", size: axisSize }];
-  if (hasY2) axes.push({ scale: "y2", side: 1, size: axisSize, grid: { show: false }, stroke: PALETTE[series.findIndex((s) => s.scale === "y2") % PALETTE.length] });
-  return {
-    width,
-    height,
-    series: [
-      {},
-      ...series.map((s, i) => ({
-        label: s.label,
-        scale: s.scale ?? "y",
-        stroke: PALETTE[i % PALETTE.length],
-        width: 1.25,
-        spanGaps: false,
-        gaps: refineGaps,
-      })),
-    ],
-    scales: { x: { time: true } },
-    axes,
-    // Dragging selects a range that the page decides what to do with (zoom, or fetch it).
-    cursor: {
-      drag: { x: true, y: false, setScale: false },
-      bind: { dblclick: () => () => (callbacks.current.onResetZoom?.(), null) },
-    },
-    hooks: {
-      setSelect: [
-        (u) => {
-          const { left, width: w } = u.select;
-          if (w > 2) callbacks.current.onZoom?.([u.posToVal(left, "x"), u.posToVal(left + w, "x")]);
-          u.setSelect({ left: 0, top: 0, width: 0, height: 0 }, false);
-        },
-      ],
-    },
-  };
 }
 
 let uplotClass: Promise<typeof uPlot> | null = null;
@@ -101,18 +41,14 @@ function loadUplot(): Promise<typeof uPlot> {
   return uplotClass;
 }
 
-function emptyData(count: number): AlignedSeries {
-  return [[], ...Array.from({ length: count }, () => [])];
-}
-
-export function TimeChart({ series, label, data, height = 320, onReady, onZoom, onResetZoom }: TimeChartProps) {
+export function TimeChart({ series, label, frame, xRange, height = 320, onReady, onZoom, onResetZoom }: TimeChartProps) {
   const box = useRef<HTMLDivElement>(null);
-  const chart = useRef<uPlot | null>(null);
-  const callbacks = useRef<Callbacks>({});
+  const chart = useRef<Drawn | null>(null);
+  const callbacks = useRef<ChartCallbacks>({});
   callbacks.current = { onZoom, onResetZoom };
-  const latest = useRef({ data, onReady });
-  latest.current = { data, onReady };
-  const seriesKey = series.map((s) => `${s.label}@${s.scale ?? "y"}`).join("\n");
+  const latest = useRef({ frame, xRange, onReady });
+  latest.current = { frame, xRange, onReady };
+  const seriesKey = series.map((s) => `${s.label}@${s.scale ?? "y"}@${s.unit ?? ""}`).join("\n");
 
   useEffect(() => {
     const el = box.current;
@@ -121,9 +57,13 @@ export function TimeChart({ series, label, data, height = 320, onReady, onZoom, 
     let cancelled = false;
     void loadUplot().then((UPlot) => {
       if (cancelled) return;
-      const width = Math.max(200, el.clientWidth || 800);
-      const u = new UPlot(chartOptions(series, width, height, callbacks), latest.current.data ?? emptyData(series.length), el);
-      cleanup = mount(u, el, height, chart, latest.current.onReady);
+      const held = { current: [] as Held[] };
+      const size = { width: Math.max(200, el.clientWidth || 800), height };
+      const u = new UPlot(chartOptions(UPlot, series, size, callbacks, held), emptyFrame(series.length).data, el);
+      const drawn: Drawn = { u, held };
+      const { frame: first, xRange: range } = latest.current;
+      show(drawn, first ?? emptyFrame(series.length), range);
+      cleanup = mount(drawn, el, height, chart, latest.current.onReady);
     });
     return () => {
       cancelled = true;
@@ -133,33 +73,49 @@ export function TimeChart({ series, label, data, height = 320, onReady, onZoom, 
     // eslint-disable-next-line react-hooks/exhaustive-deps
   }, [seriesKey, height]);
 
+  const rangeKey = xRange?.join(",");
   useEffect(() => {
-    if (data && chart.current) chart.current.setData(data);
-  }, [data]);
+    if (frame && chart.current) show(chart.current, frame, latest.current.xRange);
+  }, [frame, rangeKey]);
 
   return <div className="time-chart" ref={box} role="figure" aria-label={label} />;
 }
 
+/** A chart and the held stretches its draw hook reads. */
+interface Drawn {
+  u: uPlot;
+  held: { current: Held[] };
+}
+
+function emptyFrame(count: number): ChartFrame {
+  return { data: [[], ...Array.from({ length: count }, () => [])], held: [] };
+}
+
+function show({ u, held }: Drawn, frame: ChartFrame, range: [number, number] | undefined): void {
+  held.current = frame.held;
+  u.batch(() => {
+    u.setData(frame.data, !range);
+    if (range) u.setScale("x", { min: range[0], max: range[1] });
+  });
+}
+
 /** Follow the box's width, hand out the handle; answers what undoes it all. */
 function mount(
-  u: uPlot,
+  drawn: Drawn,
   el: HTMLElement,
   height: number,
-  chart: { current: uPlot | null },
+  chart: { current: Drawn | null },
   onReady: ((handle: TimeChartHandle | null) => void) | undefined,
 ): () => void {
-  chart.current = u;
+  const { u } = drawn;
+  chart.current = drawn;
   const observer = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => {
     const w = el.clientWidth;
     if (w > 0 && Math.abs(w - u.width) > 1) u.setSize({ width: w, height });
   });
   observer?.observe(el);
   const handle: TimeChartHandle = {
-    setData: (d, range) =>
-      u.batch(() => {
-        u.setData(d, !range);
-        if (range) u.setScale("x", { min: range[0], max: range[1] });
-      }),
+    setData: (frame, range) => show(drawn, frame, range),
     columns: () => Math.max(50, Math.round(u.bbox.width / (window.devicePixelRatio || 1)) || u.width),
   };
   onReady?.(handle);

@@ -4,6 +4,7 @@ import type uPlot from "uplot";
 
 export class FakeUplot {
   static instances: FakeUplot[] = [];
+  static paths = { stepped: () => () => null };
   readonly opts: uPlot.Options;
   data: uPlot.AlignedData;
   xRange: [number, number] | null = null;

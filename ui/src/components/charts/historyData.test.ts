@@ -1,6 +1,19 @@
 import { describe, expect, it } from "vitest";
 import type { AggregateAnswer } from "../../api/history";
-import { aggregateSeries, autoBucket, markGaps, isoToLocal, joinSeries, localToIso, rangeSeconds, summarize, toTimeRange } from "./historyData";
+import {
+  aggregateFrame,
+  autoBucket,
+  downsampleFrame,
+  firstTimesOfAggregate,
+  firstTimesOfDownsample,
+  isoToLocal,
+  joinSeries,
+  localToIso,
+  rangeSeconds,
+  signalsWithoutStart,
+  summarize,
+  toTimeRange,
+} from "./historyData";
 
 describe("history data", () => {
   it("joins series of their own times on one x in seconds", () => {
@@ -15,34 +28,52 @@ describe("history data", () => {
     ]);
   });
 
-  it("marks a stretch without data so the line breaks there", () => {
-    const data = markGaps([
-      [0, 1, 2, 3, 4, 5, 100, 101],
-      [1, 2, 3, 4, 5, 6, 7, 8],
+  it("draws a signal with few samples in the range as steps held to the range's end", () => {
+    // Last 15 minutes up to 1000 s; a signal sent on change: 0.5 since before the range, 2 from 400 s.
+    const answer = { stream: "t", start: 100e9, end: null, points: 1000, skipped: [], signals: { crane_x: { time: [400e9], value: [2] } } };
+    const { frame, range } = downsampleFrame(answer, ["crane_x"], { crane_x: { time: 50e9, value: 0.5 } }, 1_000_000);
+    expect(range).toEqual([100, 1000]);
+    expect(frame.data).toEqual([
+      [100, 250, 400],
+      [0.5, null, 2],
     ]);
-    expect(data).toEqual([
-      [0, 1, 2, 3, 4, 5, 52.5, 100, 101],
-      [1, 2, 3, 4, 5, 6, null, 7, 8],
+    expect(frame.held).toEqual([
+      { series: 0, from: 100, to: 400, value: 0.5 },
+      { series: 0, from: 400, to: 1000, value: 2 },
     ]);
-    expect(markGaps([[0, 1, 2], [1, 1, 1]])).toEqual([[0, 1, 2], [1, 1, 1]]);
-    // min/max pairs: a short step inside each bucket, a longer one between buckets
-    const pairs = [0, 0.01, 2, 2.01, 4, 4.01, 6, 6.01];
-    expect(markGaps([pairs, pairs.map(() => 1)])[0]).toEqual(pairs);
+    // With nothing in the range at all, the value from before holds over all of it.
+    const empty = downsampleFrame({ ...answer, end: 900e9, signals: {} }, ["crane_x"], { crane_x: { time: 50e9, value: 0.5 } }, 1_000_000);
+    expect(empty.range).toEqual([100, 900]);
+    expect(empty.frame.held).toEqual([{ series: 0, from: 100, to: 900, value: 0.5 }]);
   });
 
-  it("turns aggregate rows into one series per signal", () => {
+  it("turns aggregate rows into steps per signal, holding averages but not counts", () => {
     const answer: AggregateAnswer = {
-      stream: "t", bucket: "1m", bucket_ns: 60e9, fn: ["max"], skipped: [],
+      stream: "t", start: 60e9, end: 300e9, bucket: "1m", bucket_ns: 60e9, fn: ["max"], skipped: [],
       rows: [
         { time: 60e9, values: { a: { max: 2 }, b: { max: 5 } } },
         { time: 120e9, values: { a: { max: 3 } } },
       ],
     };
-    expect(aggregateSeries(answer, ["a", "b"], "max")).toEqual([
+    const max = aggregateFrame(answer, ["a", "b"], "max", {}, 0);
+    expect(max.range).toEqual([60, 300]);
+    expect(max.frame.data).toEqual([
       [60, 120],
       [2, 3],
-      [5, null],
+      [5, undefined],
     ]);
+    expect(max.frame.held.map((h) => [h.series, h.from, h.to])).toEqual([
+      [0, 120, 300],
+      [1, 60, 300],
+    ]);
+    expect(aggregateFrame(answer, ["a", "b"], "count", {}, 0).frame.held).toEqual([]);
+  });
+
+  it("asks for the value before the range only of signals that start late in it", () => {
+    const answer = { stream: "t", start: 0, end: 0, points: 4, skipped: [], signals: { early: { time: [1e9, 9e9], value: [1, 2] }, late: { time: [5e9], value: [3] } } };
+    expect(signalsWithoutStart(firstTimesOfDownsample(answer, ["early", "late", "none"]), 0, 2e9)).toEqual(["late", "none"]);
+    const rows = { stream: "t", bucket: "1s", bucket_ns: 1e9, fn: ["avg" as const], skipped: [], rows: [{ time: 3e9, values: { a: { avg: 1 }, b: { avg: null } } }] };
+    expect(firstTimesOfAggregate(rows, ["a", "b"], "avg")).toEqual(new Map([["a", 3e9], ["b", undefined]]));
   });
 
   it("chooses the smallest bucket that fits the columns", () => {

@@ -1,6 +1,7 @@
 // Turning history answers into chart data, and the History tab's time ranges and buckets.
-import type { AggregateAnswer, AggregateFn, DownsampleAnswer, TimeRange } from "../../api/history";
+import type { AggregateAnswer, AggregateFn, DownsampleAnswer, TimedSample, TimeRange } from "../../api/history";
 import type { AlignedSeries } from "../../live/decimate";
+import { stepFrame, type ChartFrame, type TimedValue } from "./steps";
 
 export const PRESETS: { value: string; label: string; seconds: number }[] = [
   { value: "15m", label: "last 15 min", seconds: 900 },
@@ -78,38 +79,76 @@ export function joinSeries(series: { time: number[]; value: number[] }[]): Align
   return [x.map((t) => t / 1e9), ...ys];
 }
 
-/** Put an all-null point in the middle of each step of x much longer than usual (where the
- * data stops, as when a device was offline), so the chart can break its lines there instead
- * of drawing a straight line across. "Usual" is the median span of two steps: min/max data
- * comes in pairs close in time, one pair per bucket. */
-export function markGaps(data: AlignedSeries, factor = 5): AlignedSeries {
-  const [x, ...ys] = data;
-  if (x.length < 3) return data;
-  const spans = new Float64Array(x.length - 2);
-  for (let i = 2; i < x.length; i++) spans[i - 2] = (x[i] as number) - (x[i - 2] as number);
-  const limit = factor * (spans.sort()[spans.length >> 1] as number);
-  const outX: number[] = [x[0] as number];
-  const outYs: (number | null)[][] = ys.map((y) => [y[0] ?? null]);
-  for (let i = 1; i < x.length; i++) {
-    const step = (x[i] as number) - (x[i - 1] as number);
-    if (step > limit) {
-      outX.push((x[i - 1] as number) + step / 2);
-      outYs.forEach((y) => y.push(null));
-    }
-    outX.push(x[i] as number);
-    outYs.forEach((y, k) => y.push((ys[k] as (number | null)[])[i] ?? null));
-  }
-  return [outX, ...outYs];
+/** An answer's view in seconds: from its start (or its first point, if earlier: aggregate
+ * buckets are aligned to the epoch) to its end, or to when it was loaded for an open end
+ * (or its last point, if a device's clock is ahead). */
+function view(startNs: number | null | undefined, endNs: number | null | undefined, loadedAtMs: number, x: number[]): [number, number] {
+  const first = x[0];
+  const last = x[x.length - 1];
+  let start = startNs === null || startNs === undefined ? (first ?? loadedAtMs / 1000) : startNs / 1e9;
+  if (first !== undefined && first < start) start = first;
+  let end = endNs === null || endNs === undefined ? loadedAtMs / 1000 : endNs / 1e9;
+  if (last !== undefined && last > end) end = last;
+  return [start, Math.max(end, start)];
 }
 
-export function downsampleSeries(answer: DownsampleAnswer, signals: string[]): AlignedSeries {
-  return markGaps(joinSeries(signals.map((name) => answer.signals[name] ?? { time: [], value: [] })));
+/** The values before the range, in series order, in seconds. */
+function beforeOf(signals: string[], before: Record<string, TimedSample>): (TimedValue | null)[] {
+  return signals.map((name) => {
+    const sample = before[name];
+    return sample ? { time: sample.time / 1e9, value: sample.value } : null;
+  });
 }
 
-export function aggregateSeries(answer: AggregateAnswer, signals: string[], fn: AggregateFn): AlignedSeries {
+export interface HistoryFrame {
+  frame: ChartFrame;
+  range: [number, number];
+}
+
+/** A downsample as steps held to the range's end, from the values before its start. */
+export function downsampleFrame(answer: DownsampleAnswer, signals: string[], before: Record<string, TimedSample>, loadedAtMs: number): HistoryFrame {
+  const data = joinSeries(signals.map((name) => answer.signals[name] ?? { time: [], value: [] }));
+  const range = view(answer.start, answer.end, loadedAtMs, data[0]);
+  return { frame: stepFrame(data, { start: range[0], end: range[1], before: beforeOf(signals, before) }), range };
+}
+
+/** A count or a sum of one bucket says nothing of the next: those are not held. */
+export function holdsValue(fn: AggregateFn): boolean {
+  return fn !== "count" && fn !== "sum";
+}
+
+/** Aggregate rows as steps: each bucket's value from its start to the next bucket's. */
+export function aggregateFrame(
+  answer: AggregateAnswer,
+  signals: string[],
+  fn: AggregateFn,
+  before: Record<string, TimedSample>,
+  loadedAtMs: number,
+): HistoryFrame {
   const x = answer.rows.map((row) => row.time / 1e9);
   const ys = signals.map((name) => answer.rows.map((row) => row.values[name]?.[fn] ?? null));
-  return markGaps([x, ...ys]);
+  const range = view(answer.start, answer.end, loadedAtMs, x);
+  const hold = holdsValue(fn);
+  const options = { start: range[0], end: range[1], before: hold ? beforeOf(signals, before) : undefined, hold };
+  return { frame: stepFrame([x, ...ys], options), range };
+}
+
+/** The signals whose first point comes later than one bucket after the range's start (or that
+ * have none): their value before the start is worth asking for. */
+export function signalsWithoutStart(firstTimes: Map<string, number | undefined>, startNs: number, bucketNs: number): string[] {
+  return [...firstTimes].filter(([, first]) => first === undefined || first > startNs + bucketNs).map(([name]) => name);
+}
+
+/** Per signal, the time (ns) of its first point in a downsample. */
+export function firstTimesOfDownsample(answer: DownsampleAnswer, signals: string[]): Map<string, number | undefined> {
+  return new Map(signals.map((name) => [name, answer.signals[name]?.time[0]]));
+}
+
+/** Per signal, the time (ns) of the first bucket with its value. */
+export function firstTimesOfAggregate(answer: AggregateAnswer, signals: string[], fn: AggregateFn): Map<string, number | undefined> {
+  return new Map(
+    signals.map((name) => [name, answer.rows.find((row) => typeof row.values[name]?.[fn] === "number")?.time]),
+  );
 }
 
 export interface SignalSummary {

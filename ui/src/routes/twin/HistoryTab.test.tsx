@@ -84,9 +84,26 @@ describe("HistoryTab", () => {
     await waitFor(() => expect(FakeUplot.instances.at(-1)!.opts.series).toHaveLength(3));
     const chart = FakeUplot.instances.at(-1)!;
     expect(chart.opts.series.slice(1).map((s) => s.label)).toEqual(["Cantilever_Angle_radians", "Input_F_in"]);
-    expect(chart.data).toEqual([[1e9, 1.001e9], [0.1, -0.3], [2.5, null]]);
+    expect(chart.data).toEqual([[1e9, 1.001e9], [0.1, -0.3], [2.5, undefined]]);
     // a force of 2.5 N and an angle of 0.3 rad are close enough for one axis
     expect(chart.opts.series.map((s) => s.scale)).toEqual([undefined, "y", "y"]);
+  });
+
+  it("draws a signal that sent nothing in the range from its value before, held to the range's end", async () => {
+    const start = 1.8e18;
+    const fetch = api((url) => {
+      if (url.includes("/downsample")) return jsonResponse({ ...DOWNSAMPLE, start, end: null, signals: {} });
+      if (url.includes("/latest")) return jsonResponse({ values: { Cantilever_Angle_radians: { time: start - 100e9, value: 0.3 } } });
+      return undefined;
+    });
+    renderTab(<HistoryTab />, twinFixture("viewer", { document: { interface: { signals: [{ name: "Cantilever_Angle_radians", unit: "rad" }] } } }));
+    await waitFor(() => expect(FakeUplot.instances.at(-1)?.data).toEqual([[1.8e9], [0.3]]));
+    expect(urls(fetch, "/latest")).toEqual([`/api/v1/twins/tingen/streams/telemetry/latest?${SIGNALS}`]);
+    const chart = FakeUplot.instances.at(-1)!;
+    expect(chart.xRange![0]).toBe(1.8e9);
+    expect(chart.xRange![1]).toBeGreaterThanOrEqual(Date.now() / 1000 - 60);
+    expect(chart.opts.axes![1]!.label).toBe("rad");
+    expect(screen.queryByText(/No samples/)).not.toBeInTheDocument();
   });
 
   it("aggregates with the auto or a chosen bucket and function, and lists the rows", async () => {

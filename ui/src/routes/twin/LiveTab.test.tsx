@@ -29,10 +29,11 @@ function downsampleAnswer(url: string) {
   return jsonResponse({ stream: "s", start: 0, end: 0, points: 100, skipped: [], signals });
 }
 
-function api(streams: StreamInfo[] | Response) {
+function api(streams: StreamInfo[] | Response, latest: Record<string, { time: number; value: unknown }> = {}) {
   return mockFetch((url) => {
     if (url.endsWith("/streams")) return streams instanceof Response ? streams : jsonResponse({ twin: "tingen", streams });
     if (url.includes("/downsample")) return downsampleAnswer(url);
+    if (url.includes("/latest")) return jsonResponse({ twin: "tingen", stream: "s", values: latest });
     return problem(404, "not found");
   });
 }
@@ -151,6 +152,45 @@ describe("LiveTab", () => {
     fireEvent.click(screen.getByRole("button", { name: "Follow live" }));
     await waitFor(() => expect(chart.xRange![1] - chart.xRange![0]).toBe(30));
     expect(screen.queryByRole("button", { name: "Follow live" })).not.toBeInTheDocument();
+  });
+
+  it("holds a signal sent on change to now, from its one sample long before the window", async () => {
+    // The crane stood still for ten minutes: no sample in the window, none arriving.
+    mockFetch((url) => {
+      if (url.endsWith("/streams")) return jsonResponse({ twin: "tingen", streams: STREAMS });
+      if (url.includes("/downsample")) return jsonResponse({ stream: "telemetry", start: 0, end: 0, points: 100, skipped: [], signals: {} });
+      if (url.includes("/latest")) return jsonResponse({ values: { Input_F_in: { time: NOW_NS - 600e9, value: 4.5 } } });
+      return problem(404, "not found");
+    });
+    const context: TwinContext = {
+      slug: "tingen",
+      twin: twinFixture("viewer", { document: { interface: { signals: [{ name: "Input_F_in", unit: "N" }] } } }),
+      reload: () => {},
+    };
+    render(
+      <MemoryRouter initialEntries={["/twins/tingen/live?s=telemetry:Input_F_in"]} future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
+        <Routes>
+          <Route path="/twins/:slug" element={<Outlet context={context} />}>
+            <Route path="live" element={<LiveTab />} />
+          </Route>
+        </Routes>
+      </MemoryRouter>,
+    );
+    await connected();
+    await waitFor(() => expect(FakeUplot.instances.at(-1)?.data[1]).toContain(4.5));
+    const chart = FakeUplot.instances.at(-1)!;
+    const [start, end] = chart.xRange!;
+    expect(chart.data).toEqual([[start], [4.5]]);
+    // ...and the draw hook holds it, dashed, from the window's start to its end (now)
+    const held = vi.fn();
+    const ctx = { save: vi.fn(), restore: vi.fn(), beginPath: vi.fn(), rect: vi.fn(), clip: vi.fn(), setLineDash: vi.fn(), moveTo: held, lineTo: held, stroke: vi.fn() };
+    const drawn = Object.assign(chart, { ctx, series: [{}, { show: true, scale: "y" }], valToPos: (v: number) => v });
+    chart.opts.hooks!.draw![0]!(drawn as never);
+    expect(held.mock.calls).toEqual([
+      [start, 4.5],
+      [end, 4.5],
+    ]);
+    expect(chart.opts.axes![1]!.label).toBe("N");
   });
 
   it("puts signals of very different sizes on a second axis", async () => {

@@ -1,4 +1,5 @@
-import { useCallback, useRef, useState } from "react";
+import { useCallback, useMemo, useRef, useState } from "react";
+import { signalUnits } from "../../api/commands";
 import { useSearchParams } from "react-router-dom";
 import { listStreams, type StreamInfo } from "../../api/history";
 import { LiveChart } from "../../components/charts/LiveChart";
@@ -21,7 +22,8 @@ import { useLiveSession } from "../../live/useLiveSession";
 import { useTwin } from "./context";
 
 export function LiveTab() {
-  const { slug } = useTwin();
+  const { slug, twin } = useTwin();
+  const units = useMemo(() => signalUnits(twin.document), [twin.document]);
   const streams = useApi((signal) => listStreams(slug, signal), [slug]);
   if (streams.error) return <ErrorMessage error={streams.error} onRetry={streams.reload} />;
   if (!streams.data) return <Loading what="Loading the streams" />;
@@ -36,7 +38,7 @@ export function LiveTab() {
   if (plottableSignals(streams.data).length === 0) {
     return <Empty>This twin's streams hold no numeric signals to plot (only text). The History tab can export them.</Empty>;
   }
-  return <LiveView slug={slug} streams={streams.data} />;
+  return <LiveView slug={slug} streams={streams.data} units={units} />;
 }
 
 /** The chosen signals and window, kept in the URL so a link reproduces the view. */
@@ -61,7 +63,7 @@ function useLiveQuery(streams: StreamInfo[]) {
   };
 }
 
-function LiveView({ slug, streams }: { slug: string; streams: StreamInfo[] }) {
+function LiveView({ slug, streams, units }: { slug: string; streams: StreamInfo[]; units: Map<string, string> }) {
   const { refs, windowS, setRefs, setWindow } = useLiveQuery(streams);
   const [paused, setPaused] = useState(false);
   const [zoom, setZoom] = useState<[number, number] | null>(null);
@@ -113,11 +115,14 @@ function LiveView({ slug, streams }: { slug: string; streams: StreamInfo[] }) {
             onFollow={() => setZoom(null)}
             serverNow={session.serverNow}
             onColumns={onColumns}
+            units={refs.map((ref) => units.get(ref.signal))}
           />
         )}
         <p className="muted">
-          Drag over the chart to zoom (the chart then stops following); double-click or “Follow live” to follow again. Paused, this
-          page unsubscribes and receives nothing; Resume loads the window from history and subscribes again.
+          Each signal holds its last value until the next sample; a dashed line is a value held with no sample for much longer than
+          the signal&apos;s usual step (a signal sent only when it changes, or a device gone quiet). Drag over the chart to zoom (the
+          chart then stops following); double-click or “Follow live” to follow again. Paused, this page unsubscribes and receives
+          nothing; Resume loads the window from history and subscribes again.
         </p>
       </div>
     </div>
