@@ -1,5 +1,6 @@
 import { isPlottable, type StreamInfo } from "../../api/history";
 import { refKey, type SignalRef } from "../../live/selection";
+import { WordBreaks } from "../common/WordBreaks";
 
 const KIND_LABEL: Record<string, string> = { integer: "int", number: "num", bool: "bool", string: "text", mixed: "mixed" };
 
@@ -35,7 +36,9 @@ export function SignalPicker({
                   onChange={(e) => toggle(ref, e.target.checked)}
                   aria-label={`${stream.name}/${signal.name}`}
                 />
-                <span>{signal.name}</span>
+                <span className="signal-name">
+                  <WordBreaks text={signal.name} />
+                </span>
                 <span className="kind">{KIND_LABEL[signal.kind] ?? signal.kind}</span>
               </label>
             );
