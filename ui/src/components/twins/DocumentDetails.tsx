@@ -1,13 +1,25 @@
 import type { TwinDocument } from "../../api/types";
 import { AddressLink } from "./FeatureList";
 
-const SHOWN_ELSEWHERE = new Set(["features", "relations", "name", "description"]);
+const SHOWN_ELSEWHERE = new Set(["features", "relations", "name", "description", "interface"]);
 
 function Value({ value }: { value: unknown }) {
   if (value === null || value === undefined) return <span className="muted">—</span>;
   if (typeof value === "string") return /^https?:\/\//i.test(value) ? <AddressLink href={value} /> : <>{value}</>;
   if (typeof value === "number" || typeof value === "boolean") return <>{String(value)}</>;
   if (Array.isArray(value) && value.every((v) => typeof v === "string")) return <>{value.join(", ")}</>;
+  if (Array.isArray(value)) {
+    // Lists of entries (relations' extra keys, custom lists) keep their nesting.
+    return (
+      <ol className="nested-list">
+        {value.map((item, i) => (
+          <li key={i}>
+            <Value value={item} />
+          </li>
+        ))}
+      </ol>
+    );
+  }
   if (typeof value === "object" && !Array.isArray(value)) {
     return (
       <dl className="props nested">
@@ -22,10 +34,11 @@ function Value({ value }: { value: unknown }) {
       </dl>
     );
   }
-  return <code>{JSON.stringify(value)}</code>;
+  return <code>{String(value)}</code>;
 }
 
-/** The document's fields other than features and relations, and the whole document as JSON. */
+/** The document's fields other than features, relations and the interface (shown as tables),
+ * and the whole document as JSON. */
 export function DocumentDetails({ document }: { document: TwinDocument }) {
   const entries = Object.entries(document).filter(([k]) => !SHOWN_ELSEWHERE.has(k));
   return (

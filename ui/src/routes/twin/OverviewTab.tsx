@@ -6,6 +6,7 @@ import { ConnectorsSection } from "../../components/connectors/ConnectorsSection
 import { DevicesSection } from "../../components/devices/DevicesSection";
 import { RolesSection } from "../../components/roles/RolesSection";
 import { DocumentDetails } from "../../components/twins/DocumentDetails";
+import { InterfaceTables } from "../../components/twins/InterfaceTables";
 import { FeatureList, findService } from "../../components/twins/FeatureList";
 import { RelationLinks } from "../../components/twins/Relations";
 import { HealthBadge } from "../../components/gateway/HealthBadge";
@@ -75,6 +76,13 @@ export function OverviewTab() {
               </li>
             ))}
           </ul>
+        </>
+      )}
+
+      {document.interface !== undefined && (
+        <>
+          <h2>Interface</h2>
+          <InterfaceTables document={document} />
         </>
       )}
 
