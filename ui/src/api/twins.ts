@@ -40,7 +40,17 @@ export async function listAllTwins(
   return { items: items.slice(0, max), complete: cursor === null };
 }
 
+export interface DeviceList {
+  devices: Device[];
+  /** Where a command that names no device goes now (null: it must name one); absent from
+   * servers before default devices. */
+  default_device?: string | null;
+}
+
+export function getDeviceList(slug: string, signal?: AbortSignal): Promise<DeviceList> {
+  return apiFetch<DeviceList>(`/api/v1/twins/${enc(slug)}/devices`, { signal });
+}
+
 export async function listDevices(slug: string, signal?: AbortSignal): Promise<Device[]> {
-  const answer = await apiFetch<{ devices: Device[] }>(`/api/v1/twins/${enc(slug)}/devices`, { signal });
-  return answer.devices;
+  return (await getDeviceList(slug, signal)).devices;
 }

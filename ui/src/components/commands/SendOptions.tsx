@@ -16,7 +16,12 @@ export function SendOptions({ devices, target, disabled, onChange }: Props) {
         <label>
           Device{" "}
           <select value={target.device ?? ""} disabled={disabled} onChange={(e) => onChange({ ...target, device: e.target.value || undefined })}>
-            <option value="">choose a device</option>
+            {/* Only when nothing could be preselected: there is then no sensible default. */}
+            {!target.device && (
+              <option value="" disabled>
+                choose a device
+              </option>
+            )}
             {devices.map((d) => (
               <option key={d.name} value={d.name}>
                 {d.name}

@@ -1,10 +1,13 @@
 import { useCallback, useState } from "react";
 import { sendCommand, type CommandRecord, type NewCommand } from "../../api/commands";
+import { forThisPage } from "./deviceChoice";
 
 /** Where and how the commands of the tab are sent; shared by every command form. */
 export interface SendTarget {
-  /** The device; left out when the twin has one (the server picks it). */
+  /** The device; left out only when the twin has none (the server says so). */
   device?: string;
+  /** Why nothing can be sent yet (a device must be chosen), if so. */
+  missing?: string;
   /** Keep the command for an offline device until it connects (then answered at once). */
   queue: boolean;
   /** Seconds until it expires; left out for the server's default. */
@@ -19,6 +22,11 @@ export function useSendCommand(slug: string, target: SendTarget, onSent: () => v
 
   const send = useCallback(
     async (name: string, args: Record<string, unknown>) => {
+      if (target.missing) {
+        setRecord(undefined);
+        setError(new Error(target.missing));
+        return;
+      }
       const command: NewCommand = { name, args };
       if (target.device) command.device = target.device;
       if (target.timeoutS !== undefined) command.timeout_s = target.timeoutS;
@@ -34,12 +42,12 @@ export function useSendCommand(slug: string, target: SendTarget, onSent: () => v
         onSent();
       } catch (err) {
         setRecord(undefined);
-        setError(err instanceof Error ? err : new Error(String(err)));
+        setError(forThisPage(err));
       } finally {
         setSending(false);
       }
     },
-    [slug, target.device, target.queue, target.timeoutS, onSent],
+    [slug, target.device, target.missing, target.queue, target.timeoutS, onSent],
   );
 
   return { record, setRecord, error, setError, sending, send };

@@ -1,12 +1,19 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
-import { fireEvent, render, screen, within } from "@testing-library/react";
+import { fireEvent, render, screen, waitFor, within } from "@testing-library/react";
 import { MemoryRouter, Outlet, Route, Routes } from "react-router-dom";
 import type { Twin, TwinDocument } from "../../api/types";
 import { jsonResponse, mockFetch } from "../../test/fetch";
 import { CommandsTab } from "./CommandsTab";
 import type { TwinContext } from "./context";
 
-afterEach(() => vi.unstubAllGlobals());
+afterEach(() => {
+  vi.unstubAllGlobals();
+  deviceList = { devices };
+});
+
+function posted(fetch: ReturnType<typeof mockFetch>) {
+  return fetch.mock.calls.filter(([, init]) => init?.method === "POST").map(([, init]) => JSON.parse(String(init?.body)));
+}
 
 const T = "2026-11-21T10:00:00.000Z";
 
@@ -36,8 +43,10 @@ const logEntry = {
   created: T, expires: T, delivered: null, finished: T, result: null, error: null, late_status: null,
 };
 
+let deviceList: { devices: typeof devices; default_device?: string | null } = { devices };
+
 function api(url: string, init?: RequestInit) {
-  if (url.endsWith("/devices")) return jsonResponse({ devices });
+  if (url.endsWith("/devices")) return jsonResponse(deviceList);
   if (url.includes("/properties")) return jsonResponse(emptyProps);
   if (url.startsWith("/api/v1/twins/tingen/commands") && init?.method === "POST") return jsonResponse({ ...logEntry, state: "succeeded" });
   if (url.startsWith("/api/v1/twins/tingen/commands")) return jsonResponse({ commands: [logEntry] });
@@ -66,6 +75,44 @@ describe("CommandsTab", () => {
     await screen.findByTestId("command-outcome");
     const post = fetch.mock.calls.find(([, init]) => init?.method === "POST")!;
     expect(JSON.parse(String(post[1]?.body))).toEqual({ name: "blink", args: { times: 3 }, device: "b" });
+  });
+
+  it("preselects the twin's default device, so Send works at once", async () => {
+    const fetch = mockFetch(api);
+    const document = { interface: { default_device: "b", commands: [{ name: "pause", parameters: [] }] } };
+    renderTab({ slug: "tingen", twin: twin("editor", document), reload: () => {} });
+    await waitFor(() => expect(screen.getByLabelText(/^Device/)).toHaveValue("b"));
+    fireEvent.click(within(screen.getByRole("form", { name: "Command pause" })).getByRole("button", { name: "Send" }));
+    await screen.findByTestId("command-outcome");
+    expect(posted(fetch)).toEqual([{ name: "pause", args: {}, device: "b" }]);
+  });
+
+  it("preselects the device the server names, else the only connected one", async () => {
+    deviceList = { devices, default_device: "b" };
+    mockFetch(api);
+    const { unmount } = renderTab({ slug: "tingen", twin: twin("editor", {}), reload: () => {} });
+    await waitFor(() => expect(screen.getByLabelText(/^Device/)).toHaveValue("b"));
+    unmount();
+    deviceList = { devices };
+    renderTab({ slug: "tingen", twin: twin("editor", {}), reload: () => {} });
+    await waitFor(() => expect(screen.getByLabelText(/^Device/)).toHaveValue("a")); // a is connected
+  });
+
+  it("never sends without a device: with no sensible default it asks to choose one", async () => {
+    deviceList = { devices: devices.map((d) => ({ ...d, connected: false })), default_device: null };
+    const fetch = mockFetch(api);
+    const document = { interface: { commands: [{ name: "pause", parameters: [] }] } };
+    renderTab({ slug: "tingen", twin: twin("editor", document), reload: () => {} });
+    await waitFor(() => expect(screen.getByRole("option", { name: "choose a device" })).toBeInTheDocument());
+    const form = screen.getByRole("form", { name: "Command pause" });
+    fireEvent.click(within(form).getByRole("button", { name: "Send" }));
+    expect(await within(form.parentElement!).findByRole("alert")).toHaveTextContent("Choose the device to send to in the Device list above.");
+    expect(posted(fetch)).toEqual([]);
+    fireEvent.change(screen.getByLabelText(/^Device/), { target: { value: "a" } });
+    expect(screen.queryByRole("option", { name: "choose a device" })).not.toBeInTheDocument();
+    fireEvent.click(within(form).getByRole("button", { name: "Send" }));
+    await screen.findByTestId("command-outcome");
+    expect(posted(fetch)).toEqual([{ name: "pause", args: {}, device: "a" }]);
   });
 
   it("filters the log by state", async () => {

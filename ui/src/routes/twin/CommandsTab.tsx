@@ -1,11 +1,12 @@
 import { useCallback, useMemo, useState } from "react";
 import { readInterface, type PropertyDecl } from "../../api/commands";
-import { listDevices } from "../../api/twins";
+import { getDeviceList } from "../../api/twins";
 import type { Device } from "../../api/types";
 import { CommandCard } from "../../components/commands/CommandCard";
 import { CommandLog } from "../../components/commands/CommandLog";
 import { FreeCommandForm } from "../../components/commands/FreeCommandForm";
 import { PropertiesPanel } from "../../components/commands/PropertiesPanel";
+import { CHOOSE_DEVICE, preselectDevice } from "../../components/commands/deviceChoice";
 import { SendOptions } from "../../components/commands/SendOptions";
 import type { SendTarget } from "../../components/commands/useSendCommand";
 import { Empty, ErrorMessage, Loading } from "../../components/common/Status";
@@ -51,21 +52,25 @@ function PropertiesSection({ slug, devices, decls, editable }: PropertiesSection
 export function CommandsTab() {
   const { slug, twin } = useTwin();
   const editable = canEdit(twin);
-  const { commands, properties } = useMemo(() => readInterface(twin.document), [twin.document]);
-  const devices = useApi((signal) => listDevices(slug, signal), [slug]);
+  const { commands, properties, defaultDevice } = useMemo(() => readInterface(twin.document), [twin.document]);
+  const list = useApi((signal) => getDeviceList(slug, signal), [slug]);
+  const devices: ApiState<Device[]> = { ...list, data: list.data?.devices };
   const [target, setTarget] = useState<SendTarget>({ queue: false });
   const [logKey, setLogKey] = useState(0);
   const onSent = useCallback(() => setLogKey((k) => k + 1), []);
 
-  const several = (devices.data?.length ?? 0) > 1;
-  // With several devices the server needs a name; with one it picks it itself.
-  const effective: SendTarget = several ? target : { ...target, device: undefined };
+  // The device chosen in the list, else the one a command naming none would go to.
+  const known = devices.data ?? [];
+  const chosen = target.device && known.some((d) => d.name === target.device) ? target.device : undefined;
+  const device = chosen ?? preselectDevice(known, defaultDevice, list.data?.default_device);
+  const missing = known.length > 1 && !device ? CHOOSE_DEVICE : undefined;
+  const effective: SendTarget = { ...target, device, missing };
   const disabled = !editable;
   return (
     <>
       <h2>Commands</h2>
       <DeviceNotes devices={devices.data} editable={editable} />
-      <SendOptions devices={devices.data ?? []} target={target} disabled={disabled} onChange={setTarget} />
+      <SendOptions devices={known} target={effective} disabled={disabled} onChange={setTarget} />
       <div className="command-cards">
         {commands.map((c) => (
           <CommandCard key={c.name} slug={slug} command={c} target={effective} disabled={disabled} onSent={onSent} />
