@@ -48,8 +48,12 @@ describe("FeatureList", () => {
     fireEvent.click(within(opc).getByRole("button", { name: "Try it" }));
     expect(within(opc).getByLabelText("Path")).toHaveValue("variables");
 
+    expect(within(opc).queryByText("described only")).not.toBeInTheDocument();
+
+    // No apiAddress: described only, nothing to try
     const monitoring = cards[1]!;
     expect(within(monitoring).getByRole("link")).toHaveAttribute("href", "https://crane-monitoring.example/");
+    expect(within(monitoring).getByText("described only")).toBeInTheDocument();
     expect(within(monitoring).queryByRole("button", { name: "Try it" })).not.toBeInTheDocument();
   });
 

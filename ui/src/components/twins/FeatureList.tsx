@@ -63,6 +63,11 @@ function FeatureCard({ slug, feature, service, elementId, targeted }: FeatureCar
             <HealthBadge service={service} />
           </>
         )}
+        {!service && !feature.apiAddress && (
+          <span className="badge" title="This feature has no API (no apiAddress): it is described here, and nothing is reachable through the gateway.">
+            described only
+          </span>
+        )}
       </div>
       {feature.description && <p>{feature.description}</p>}
       <dl className="props">
