@@ -17,6 +17,7 @@ export default defineConfig({
     proxy: {
       "/api": { target: server, ws: true },
       "/twins": server,
+      "/favicon.svg": server,
     },
   },
   test: {

@@ -4,6 +4,8 @@ The files are served as built (`ui/` -> `npm run build` -> `twinlink/web/app/`, 
 folder named by the `ui_dir` setting). Paths that are not files get `index.html`, so the
 app's own routes (`/app/twins/{slug}`, ...) load it too. No token is needed: the app holds
 no data, it signs in itself and then calls the API with its token.
+
+The site's icon is served here too, at `/favicon.svg`, for the app and the server's own pages.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from twinlink.web.render import page
 router = APIRouter(include_in_schema=False)
 
 PACKAGE_DIR = Path(twinlink.web.__file__).parent / "app"
+FAVICON = Path(twinlink.web.__file__).parent / "favicon.svg"
 
 # Vite names the files under assets/ by their content hash: they never change.
 IMMUTABLE = "public, max-age=31536000, immutable"
@@ -78,6 +81,18 @@ def _file(path: Path, cache: str) -> FileResponse:
 
 def _not_found() -> Response:
     return Response("Not found\n", status_code=404, media_type="text/plain; charset=utf-8")
+
+
+@router.api_route("/favicon.svg", methods=["GET", "HEAD"])
+async def favicon() -> FileResponse:
+    return _file(FAVICON, "public, max-age=86400")
+
+
+@router.api_route("/favicon.ico", methods=["GET", "HEAD"])
+async def favicon_ico() -> RedirectResponse:
+    # Browsers ask for /favicon.ico when a page names no icon (every page of ours names the
+    # SVG one); tools that only know this name get it too.
+    return RedirectResponse("/favicon.svg", status_code=308)
 
 
 @router.api_route("/app", methods=["GET", "HEAD"])
