@@ -1,5 +1,6 @@
 """The web app under /app/: its files, the fallback to index.html for the app's own routes,
-cache headers, no token, path traversal, and the page shown when it is not built."""
+cache headers, no token, path traversal, and the page shown when it is not built; the site's
+icon; the server's own HTML page of a twin."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import pytest
 from tests.conftest import Server, start_server, stop_server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._gateway import raw_request
+from tests.integration._util import apply, slug_of, twin_doc, unique
 
 pytestmark = pytest.mark.integration
 
@@ -122,3 +124,39 @@ def test_not_built(server: Server, ui_dir: Path) -> None:
             assert "not built" in r.text
             assert "make setup" in r.text
             assert "npm run build" in r.text
+
+
+def test_the_icon_is_served_for_every_page(server: Server, built: Path) -> None:
+    with server.client() as anon:
+        r = anon.get("/favicon.svg")
+        assert r.status_code == 200
+        assert r.headers["content-type"].startswith("image/svg+xml")
+        assert r.content.startswith(b"<svg")
+        # What browsers ask for when a page names no icon
+        r = anon.get("/favicon.ico", follow_redirects=False)
+        assert r.status_code == 308
+        assert r.headers["location"] == "/favicon.svg"
+        # The server's pages name it, the not-built page too
+        assert 'href="/favicon.svg"' in anon.get("/").text
+        shutil.rmtree(built)
+        assert 'href="/favicon.svg"' in anon.get("/app/").text
+
+
+def test_the_twin_page_prints_values_as_yaml_and_links_to_the_app(server: Server) -> None:
+    doc = twin_doc(
+        f"urn:test:{unique('page')}",
+        name="Beam",
+        physicalProperties={"youngsModulus": {"value": 2.1e11, "unit": "Pa"}},
+        interface={"signals": [{"name": "angle", "unit": "rad", "type": "number"}]},
+        flags={"calibrated": True, "retired": False},
+    )
+    with server.admin as admin:
+        slug = slug_of(apply(admin, doc))
+    with server.client() as anon:
+        r = anon.get(f"/twins/{slug}", headers={"Accept": "text/html"})
+    assert r.status_code == 200, r.text
+    assert f'<a href="/app/twins/{slug}"><b>Open in the web app</b></a>' in r.text
+    assert "<dt>calibrated</dt><dd>true</dd>" in r.text
+    assert "True" not in r.text and "False" not in r.text
+    assert "2.1e11" in r.text and "210000000000" not in r.text
+    assert "<td>angle</td><td>rad</td><td>number</td>" in r.text
