@@ -5,15 +5,21 @@ never shown or logged, its values reach the twin, a twin command writes a node."
 from __future__ import annotations
 
 import asyncio
+import subprocess
+import sys
 import threading
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
+import orjson
 import pytest
+import yaml
 
 from tests.conftest import Server, free_port
 from tests.integration._fixtures import no_server_errors as no_server_errors
 from tests.integration._util import apply, assert_problem, poll_until, twin_doc, unique
+from tests.integration.test_opcua_security import write_identity
 from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
 from twinlink.crane.plant import CranePlant
 
@@ -117,3 +123,78 @@ def test_an_opcua_connector_made_by_api(server: Server, crane: Crane) -> None:
             "name": "bad", "kind": "opcua", "config": {"url": "http://not-opc"}})  # fmt: skip
         assert "url" in assert_problem(r, 422)["detail"]
     assert PASSWORD not in server.log() and "wrong-one" not in server.log()
+    # asyncua's own warning about each refused attempt is a JSON line like the server's.
+    asyncua = [line for line in server.log().splitlines() if "asyncua" in line]
+    assert asyncua, server.log()
+    assert all(orjson.loads(line)["logger"].startswith("asyncua.") for line in asyncua)
+
+
+def test_a_client_key_of_another_certificate_is_refused_at_create(
+    server: Server, crane: Crane, tmp_path: Path
+) -> None:
+    slug = unique("plc")
+    cert, _ = write_identity(tmp_path, "client", "urn:example:client")
+    _, other_key = write_identity(tmp_path, "other", "urn:example:other")
+    config = {
+        **_config(crane),
+        "security_policy": "Basic256Sha256",
+        "certificate": str(cert),
+        "private_key": str(other_key),
+    }
+    with server.admin as admin:
+        apply(admin, twin_doc(f"urn:{slug}", name="Crane", slug=slug))
+        r = admin.post(
+            f"/api/v1/twins/{slug}/connectors",
+            json={"name": "plc", "kind": "opcua", "config": config},
+        )
+        detail = assert_problem(r, 422)["detail"]
+        assert (
+            f"private_key {other_key} does not belong to certificate {cert}: their public keys "
+            "differ"
+        ) in detail
+        assert_problem(admin.get(f"/api/v1/twins/{slug}/connectors/plc"), 404)
+        assert admin.get(f"/api/v1/twins/{slug}/devices").json()["devices"] == []
+
+
+def test_each_node_not_subscribed_is_shown_by_api_and_cli(
+    server: Server, crane: Crane, tmp_path: Path
+) -> None:
+    slug = unique("plc")
+    config = _config(crane)
+    config["signals"] = [
+        *config["signals"],
+        {"node": f"{NS}.Hook.Weight", "signal": "weight"},
+        {"node": "/2:Ilmatar/2:Hook/2:Mass", "signal": "mass"},
+    ]
+    with server.admin as admin:
+        apply(admin, twin_doc(f"urn:{slug}", name="Crane", slug=slug))
+        r = admin.post(
+            f"/api/v1/twins/{slug}/connectors",
+            json={"name": "plc", "kind": "opcua", "config": config},
+        )
+        assert r.status_code == 201, r.text
+
+        def connected() -> dict[str, Any] | None:
+            status = admin.get(f"/api/v1/twins/{slug}/connectors/plc").json()["status"]
+            return status if status["state"] == "connected" else None
+
+        status = poll_until(connected, "the connector to connect")
+    assert status["monitored"] == 2
+    assert status["failed_nodes"] == [
+        {"signal": "weight", "node": f"{NS}.Hook.Weight",
+         "reason": f"the server does not monitor {NS}.Hook.Weight (BadNodeIdUnknown)"},
+        {"signal": "mass", "node": "/2:Ilmatar/2:Hook/2:Mass",
+         "reason": "the server has no node at /2:Ilmatar/2:Hook/2:Mass"},
+    ]  # fmt: skip
+    assert status["failed_nodes_more"] == 0
+    env = {"TWINLINK_URL": server.url, "TWINLINK_TOKEN": server.admin_token,
+           "PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}  # fmt: skip
+    shown = subprocess.run(
+        [sys.executable, "-m", "twinlink", "connectors", "show", slug, "plc"],
+        env=env, capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL,
+    )  # fmt: skip
+    assert shown.returncode == 0, shown.stderr
+    printed = yaml.safe_load(shown.stdout)["status"]
+    assert printed["failed_nodes"] == status["failed_nodes"]
+    with server.admin as admin:  # its session ends before the crane's server stops
+        assert admin.delete(f"/api/v1/twins/{slug}/connectors/plc").status_code == 204

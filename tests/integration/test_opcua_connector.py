@@ -90,8 +90,19 @@ async def test_nodes_the_server_does_not_have_are_errors_and_the_rest_flow(
         assert conn.status.view()["monitored"] == 1
         await eventually(lambda: len(platform.samples()) == 1, "the value of the one node")
     assert list(platform.samples().values()) == [{"running": True}]
-    assert conn.status.last_error == (  # the nodes found are refused last, by the server
-        f"subscribe_failed: nope: the server does not monitor {NS}.Nope (BadNodeIdUnknown)"
+    view = conn.status.view()  # each failing node with its reason, in the order of `signals`
+    assert view["failed_nodes"] == [
+        {"signal": "nope", "node": f"{NS}.Nope",
+         "reason": f"the server does not monitor {NS}.Nope (BadNodeIdUnknown)"},
+        {"signal": "nope_too", "node": "/2:Ilmatar/2:Nope",
+         "reason": "the server has no node at /2:Ilmatar/2:Nope"},
+        {"signal": "nowhere", "node": "nsu=urn:nowhere;s=Nope",
+         "reason": "the server has no namespace urn:nowhere"},
+    ]  # fmt: skip
+    assert view["failed_nodes_more"] == 0
+    assert (
+        conn.status.last_error
+        == "subscribe_failed: nowhere: the server has no namespace urn:nowhere"
     )
 
 

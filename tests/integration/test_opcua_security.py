@@ -109,12 +109,14 @@ async def test_a_session_with_username_and_password(
         (
             {"username": "operator", "password": "wrong"},
             "auth_failed: opc.tcp://127.0.0.1:{port}/ilmatar/ refused user 'operator' "
-            "(BadUserAccessDenied); check username and password",
+            "(BadUserAccessDenied); its endpoints: None (username); check username and "
+            "password",
         ),
         (
             {},
             "auth_failed: opc.tcp://127.0.0.1:{port}/ilmatar/ refused an anonymous session "
-            "(BadIdentityTokenRejected); set username and password",
+            "(BadIdentityTokenRejected); its endpoints: None (username); set username and "
+            "password",
         ),
     ],
 )
@@ -167,8 +169,9 @@ async def test_no_security_against_a_secured_server_is_an_error(
         await eventually(lambda: connector.status.errors["security"] >= 2, "two attempts")
         assert connector.status.state == "error"
         assert connector.status.last_error == (
-            f"security: {secure_server.url} offers no endpoint without security; "
-            "set security_policy"
+            f"security: {secure_server.url} offers no endpoint without security (its endpoints: "
+            "Basic256Sha256 SignAndEncrypt (anonymous); Basic256Sha256 Sign (anonymous)); set "
+            "security_policy"
         )
 
 
@@ -181,5 +184,5 @@ async def test_a_missing_endpoint_is_named(
         assert connector.status.state == "error"
     assert connector.status.last_error == (
         f"security: {users_server.url} offers no endpoint with security_policy Basic256Sha256 "
-        "and security_mode SignAndEncrypt"
+        "and security_mode SignAndEncrypt (its endpoints: None (username))"
     )

@@ -3,10 +3,14 @@ connection, derived defaults, and secrets kept out of what is shown."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import pytest
 from asyncua import ua
+from asyncua.crypto import cert_gen
+from cryptography import x509
+from cryptography.hazmat.primitives import serialization
 from pydantic import ValidationError
 
 from twinlink.connectors.opcua import OpcUaConnector
@@ -124,3 +128,58 @@ def test_the_connector_declares_its_kind_and_config() -> None:
     schema = OpcUaConfig.model_json_schema()
     documented = {name for name, prop in schema["properties"].items() if prop.get("description")}
     assert documented == set(schema["properties"])
+
+
+# -- certificate files, read when the configuration is checked ------------------------------
+
+
+def write_pair(folder: Path, name: str, password: bytes | None = None) -> tuple[Path, Path]:
+    key = cert_gen.generate_private_key()
+    san: list[x509.GeneralName] = [x509.UniformResourceIdentifier(f"urn:example:{name}")]
+    cert = cert_gen.generate_self_signed_app_certificate(key, name, {}, san, [])
+    cert_path, key_path = folder / f"{name}.pem", folder / f"{name}.key"
+    cert_path.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
+    protect = serialization.BestAvailableEncryption(password) if password else None
+    key_path.write_bytes(
+        key.private_bytes(
+            serialization.Encoding.PEM,
+            serialization.PrivateFormat.PKCS8,
+            protect or serialization.NoEncryption(),
+        )
+    )
+    return cert_path, key_path
+
+
+def test_a_private_key_of_another_certificate_is_refused(tmp_path: Path) -> None:
+    cert, key = write_pair(tmp_path, "client", b"pw")
+    _, other_key = write_pair(tmp_path, "other")
+    secure = {"security_policy": "Basic256Sha256", "certificate": str(cert)}
+    assert config(**secure, private_key=str(key), private_key_password="pw").certificate == cert
+    assert (
+        f"private_key {other_key} does not belong to certificate {cert}: their public keys "
+        "differ (give the key the certificate was issued for)"
+    ) in problem(**secure, private_key=str(other_key))
+
+
+@pytest.mark.parametrize(
+    ("change", "text"),
+    [
+        ({"certificate": "gone.pem"}, "certificate gone.pem: No such file or directory"),
+        (
+            {"private_key_password": "wrong"},
+            "private_key client.key cannot be read (PEM or DER; is private_key_password right?)",
+        ),
+        ({"certificate": "junk"}, "certificate junk is not a PEM or DER certificate"),
+        ({"server_certificate": "junk"}, "server_certificate junk is not a PEM or DER"),
+        ({"server_certificate": "gone.der"}, "server_certificate gone.der: No such file"),
+    ],
+)
+def test_certificate_files_that_cannot_be_used_are_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, change: dict[str, str], text: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "junk").write_text("junk")
+    cert, key = write_pair(tmp_path, "client", b"pw")
+    fields = {"security_policy": "Basic256Sha256", "certificate": cert.name,
+              "private_key": key.name, "private_key_password": "pw"}  # fmt: skip
+    assert text in problem(**{**fields, **change})

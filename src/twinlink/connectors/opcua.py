@@ -30,7 +30,7 @@ from pydantic import BaseModel
 from twinlink.connectors.base import Connector, ConnectorHost, ConnectorStatus
 from twinlink.connectors.opcua_client import (
     ClientIdentity,
-    explain_failure,
+    explain_attempt,
     load_identity,
     new_client,
     server_certificate_der,
@@ -39,8 +39,10 @@ from twinlink.connectors.opcua_config import OpcUaConfig
 from twinlink.connectors.opcua_session import (
     CommandFailed,
     CommandRunner,
+    FailedNode,
     NodeResolver,
     Subscribed,
+    read_server_state,
     subscribe,
 )
 from twinlink.connectors.opcua_values import SampleBatcher, read_data_value
@@ -54,6 +56,7 @@ log = logging.getLogger("twinlink.connectors.opcua")
 # configuration, never a reason to stop trying.
 CONNECTION_ERRORS = (OSError, TimeoutError, UaError, ConnectionError)
 REMEMBERED_RESULTS = 256  # a command delivered again (at least once) is answered, not rerun
+MAX_FAILED_NODES = 50  # signals listed in the status with their reasons; the rest counted
 
 
 class SessionLost(Exception):
@@ -61,18 +64,39 @@ class SessionLost(Exception):
 
 
 class OpcUaStatus(ConnectorStatus):
-    """The common status, plus the server's endpoint and how many of the signals are
-    monitored in the current session. `messages` counts the data changes received."""
+    """The common status, plus the server's endpoint, how many of the signals are monitored
+    in the current session and which could not be, each with its reason. `messages` counts
+    the data changes received."""
 
-    __slots__ = ("address", "monitored")
+    __slots__ = ("address", "failed_nodes", "failed_nodes_more", "monitored")
 
     def __init__(self, address: str) -> None:
         super().__init__()
         self.address = address
         self.monitored = 0
+        self.failed_nodes: list[FailedNode] = []
+        self.failed_nodes_more = 0
+
+    def nodes_failed(self, failed: list[FailedNode]) -> None:
+        """The signals a new session could not subscribe: each is a `subscribe_failed` error,
+        and the first MAX_FAILED_NODES are listed (a server missing a whole folder of nodes
+        would otherwise show only the last one)."""
+        for node in failed:
+            self.error("subscribe_failed", node.text())
+        self.failed_nodes = failed[:MAX_FAILED_NODES]
+        self.failed_nodes_more = len(failed) - len(self.failed_nodes)
 
     def view(self) -> dict[str, Any]:
-        return {**super().view(), "address": self.address, "monitored": self.monitored}
+        failed = [
+            {"signal": f.signal, "node": f.node, "reason": f.reason} for f in self.failed_nodes
+        ]
+        return {
+            **super().view(),
+            "address": self.address,
+            "monitored": self.monitored,
+            "failed_nodes": failed,
+            "failed_nodes_more": self.failed_nodes_more,
+        }
 
 
 class OpcUaConnector(Connector):
@@ -130,14 +154,14 @@ class OpcUaConnector(Connector):
             opened = True
             subscribed = await self._start_session(client)
             connected = True
-            reason = await self._serve(subscribed, lost)
+            reason = await self._serve(client, subscribed, lost)
             self._report("connection_lost", reason, "reconnecting")
         except CONNECTION_ERRORS as err:
             if opened:  # lost while subscribing or serving: reconnecting will do
                 text = f"{self.settings.url}: {err or type(err).__name__}"
                 self._report("connection_lost", text, "reconnecting")
             else:
-                failure = explain_failure(err, self.settings)
+                failure = await explain_attempt(err, self.settings, self._identity)
                 self._report(failure.kind, failure.text, failure.state)
         finally:
             self._runner = None
@@ -152,7 +176,8 @@ class OpcUaConnector(Connector):
 
     async def _start_session(self, client: Client) -> Subscribed:
         nodes = NodeResolver(client)
-        subscribed = await subscribe(client, self.settings, nodes, self.status)
+        subscribed = await subscribe(client, self.settings, nodes)
+        self.status.nodes_failed(subscribed.failed)
         # Commands queued for the device arrive as soon as it is online: be ready for them.
         self._runner = CommandRunner(client, self.settings, nodes)
         await self.open_link()  # the device is online while the server is
@@ -165,8 +190,8 @@ class OpcUaConnector(Connector):
         return subscribed
 
     def _on_lost(self, lost: asyncio.Event) -> Callable[[Exception], Coroutine[Any, Any, None]]:
-        # asyncua's watchdog calls this when the transport closed or the server stopped
-        # answering (a dead session, a hung server).
+        # asyncua calls this when the transport closed (a server that stops answering is
+        # noticed by `_watch`).
         async def connection_lost(err: Exception) -> None:
             self._lost_reason = str(err) or type(err).__name__
             lost.set()
@@ -187,14 +212,15 @@ class OpcUaConnector(Connector):
 
     # -- data changes ---------------------------------------------------------------------
 
-    async def _serve(self, subscribed: Subscribed, lost: asyncio.Event) -> str:
+    async def _serve(self, client: Client, subscribed: Subscribed, lost: asyncio.Event) -> str:
         """Take the subscription's notifications until the session ends; returns how."""
         batcher = SampleBatcher()
         taking = asyncio.create_task(self._take(subscribed, batcher))
         flushing = asyncio.create_task(self._flush_periodically(batcher))
+        watching = asyncio.create_task(self._watch(client))
         losing = asyncio.create_task(lost.wait())
         try:
-            error = await until_first_done((taking, flushing, losing))
+            error = await until_first_done((taking, flushing, watching, losing))
         finally:
             await self._flush(batcher)
         url = self.settings.url
@@ -205,6 +231,30 @@ class OpcUaConnector(Connector):
         if error is not None:
             raise error  # a bug: Connector._run reports it
         return f"the connection to {url} was lost"
+
+    async def _watch(self, client: Client) -> None:
+        """Read the server's state every `watchdog_interval_s`; a read not answered within
+        `request_timeout_s` ends the session. A server may answer a session's requests one
+        at a time (asyncua's does), so the read also waits for the method calls in flight,
+        up to when their commands expire."""
+        loop = asyncio.get_running_loop()
+        while True:
+            await asyncio.sleep(self.settings.watchdog_interval_s)
+            busy = self._runner.busy_until() if self._runner is not None else None
+            waited = 0.0 if busy is None else max(0.0, busy - loop.time())
+            try:
+                await read_server_state(client, self.settings.request_timeout_s + waited)
+            except TimeoutError:
+                raise SessionLost(self._unanswered(waited)) from None
+
+    def _unanswered(self, waited: float) -> str:
+        text = (
+            "the server did not answer the watchdog's read of its state within "
+            f"{self.settings.request_timeout_s:g} s (request_timeout_s)"
+        )
+        if waited:
+            text += f" after the {waited:.3g} s its method calls in flight could take"
+        return text
 
     async def _take(self, subscribed: Subscribed, batcher: SampleBatcher) -> None:
         max_samples = self.settings.batch_max_samples
@@ -259,18 +309,21 @@ class OpcUaConnector(Connector):
             return  # delivered again while running: its result is on the way
         args = message.get("args")
         name = str(message.get("name"))
+        deadline = _deadline(message.get("expires"))
         task = asyncio.create_task(
-            self._command(command_id, name, args if isinstance(args, dict) else {}),
+            self._command(command_id, name, args if isinstance(args, dict) else {}, deadline),
             name=f"connector-{self.name}-command",
         )
         self._commands[command_id] = task
         task.add_done_callback(lambda _: self._commands.pop(command_id, None))
 
-    async def _command(self, command_id: str, name: str, args: dict[str, Any]) -> None:
+    async def _command(
+        self, command_id: str, name: str, args: dict[str, Any], deadline: float | None
+    ) -> None:
         if command_id in self._answered:
             result, error = self._answered[command_id]
         else:
-            result, error = await self._carry_out(name, args)
+            result, error = await self._carry_out(name, args, deadline)
             self._answered[command_id] = (result, error)
             while len(self._answered) > REMEMBERED_RESULTS:
                 self._answered.popitem(last=False)
@@ -278,7 +331,11 @@ class OpcUaConnector(Connector):
                 self.status.error("command_failed", f"{name}: {error}")
         await self.answer(command_id, result=result, error=error)
 
-    async def _carry_out(self, name: str, args: dict[str, Any]) -> tuple[Any, str | None]:
+    async def _carry_out(
+        self, name: str, args: dict[str, Any], deadline: float | None
+    ) -> tuple[Any, str | None]:
+        """Every request of a command has its own limit (`request_timeout_s`, or for a method
+        call the time until the command expires), so no limit is set around them."""
         commands = self.settings.commands
         if name not in commands:
             known = ", ".join(sorted(commands)) or "none"
@@ -287,14 +344,10 @@ class OpcUaConnector(Connector):
         if runner is None:
             state = self.status.state
             return None, f"not connected to the OPC UA server ({state}); try again when connected"
-        limit = self.settings.request_timeout_s * 2
         try:
-            async with asyncio.timeout(limit):
-                return await runner.run(name, args), None
+            return await runner.run(name, args, deadline), None
         except CommandFailed as err:
             return None, str(err)
-        except TimeoutError:
-            return None, f"the OPC UA server did not answer within {limit:g} s"
         except CONNECTION_ERRORS as err:
             return None, f"the connection to the OPC UA server failed: {err or type(err).__name__}"
 
@@ -303,3 +356,10 @@ class OpcUaConnector(Connector):
         tasks = list(self._commands.values())
         if tasks:
             await asyncio.wait(tasks, timeout=self.settings.request_timeout_s)
+
+
+def _deadline(expires: Any) -> float | None:
+    """When a command expires (`expires`, ns since the epoch) as event loop time."""
+    if not isinstance(expires, int) or isinstance(expires, bool):
+        return None
+    return asyncio.get_running_loop().time() + (expires - time.time_ns()) / 1e9

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import asyncio
 import socket
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from asyncua import ua
 from asyncua.client.client import Client
-from asyncua.crypto import cert_gen, security_policies
+from asyncua.crypto import cert_gen
 from asyncua.crypto.uacrypto import CertProperties
 from asyncua.ua.status_codes import get_name_and_doc
 from asyncua.ua.uaerrors import UaError, UaStatusCodeError
@@ -19,18 +20,26 @@ from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from twinlink.connectors.base import ConnectorError
+from twinlink.connectors.opcua_certs import CertificateFileError, read_certificate, read_key_pair
 from twinlink.connectors.opcua_config import DEFAULT_APPLICATION_URI, OpcUaConfig
+from twinlink.connectors.opcua_endpoints import (
+    MODES,
+    POLICIES,
+    ServerCertificateMismatch,
+    checked_server_certificate,
+    get_endpoints,
+    offered,
+    pick_endpoint,
+    refused_session_hint,
+)
 
 SESSION_TIMEOUT_MS = 60_000  # a session the connector left behind is dropped after this
-POLICIES: dict[str, type[security_policies.SecurityPolicy]] = {
-    "Basic256Sha256": security_policies.SecurityPolicyBasic256Sha256,
-    "Aes128_Sha256_RsaOaep": security_policies.SecurityPolicyAes128Sha256RsaOaep,
-    "Aes256_Sha256_RsaPss": security_policies.SecurityPolicyAes256Sha256RsaPss,
-}
-MODES = {
-    "Sign": ua.MessageSecurityMode.Sign,
-    "SignAndEncrypt": ua.MessageSecurityMode.SignAndEncrypt,
-}
+# asyncua's watchdog reads the server's state every `watchdog_intervall` with a timeout of that
+# interval, and a server may answer a session's requests one at a time (asyncua's does): a
+# method call longer than the interval ended the session. The connector checks the server
+# itself (OpcUaConnector._watch, which waits for calls in flight), so asyncua's periodic read
+# is put off for good; asyncua still notices a closed connection at once.
+ASYNCUA_WATCHDOG_S = 1e9
 AUTH_CODES = {"BadUserAccessDenied", "BadIdentityTokenRejected", "BadIdentityTokenInvalid"}
 SECURITY_CODES = {
     "BadSecurityChecksFailed",
@@ -90,22 +99,10 @@ def _generate_identity(application_uri: str) -> ClientIdentity:
 def _read_identity(
     cert_path: Path, key_path: Path, password: str | None, application_uri: str | None
 ) -> ClientIdentity:
-    cert = read_certificate(cert_path)
     try:
-        data = key_path.read_bytes()
-    except OSError as err:
-        raise ConnectorError(f"private_key {key_path}: {err.strerror or err}") from err
-    secret = password.encode() if password else None
-    try:
-        if b"-----BEGIN" in data:
-            key = serialization.load_pem_private_key(data, secret)
-        else:
-            key = serialization.load_der_private_key(data, secret)
-    except (ValueError, TypeError) as err:
-        raise ConnectorError(
-            f"private_key {key_path} cannot be read (PEM or DER; is private_key_password "
-            f"right?): {err}"
-        ) from err
+        cert, key = read_key_pair(cert_path, key_path, password)
+    except CertificateFileError as err:
+        raise ConnectorError(str(err)) from None
     key_pem = key.private_bytes(
         serialization.Encoding.PEM,
         serialization.PrivateFormat.PKCS8,
@@ -115,20 +112,6 @@ def _read_identity(
     return ClientIdentity(
         cert.public_bytes(serialization.Encoding.PEM), key_pem, uri, generated=False
     )
-
-
-def read_certificate(path: Path) -> x509.Certificate:
-    """A certificate file, PEM or DER; raises ConnectorError saying why it cannot be used."""
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise ConnectorError(f"certificate {path}: {err.strerror or err}") from err
-    try:
-        if b"-----BEGIN" in data:
-            return x509.load_pem_x509_certificate(data)
-        return x509.load_der_x509_certificate(data)
-    except ValueError as err:
-        raise ConnectorError(f"{path} is not a PEM or DER certificate: {err}") from err
 
 
 def _certificate_uri(cert: x509.Certificate) -> str | None:
@@ -144,12 +127,11 @@ def _certificate_uri(cert: x509.Certificate) -> str | None:
 async def new_client(
     config: OpcUaConfig, identity: ClientIdentity | None, server_certificate: bytes | None
 ) -> Client:
-    """A client ready to connect (for a secured channel, without a server certificate given,
-    this asks the server for its endpoints first)."""
+    """A client ready to connect. For a secured channel this asks the server for its
+    endpoints first, and refuses a server that presents another certificate than
+    `server_certificate` (ServerCertificateMismatch) before anything is sent to it."""
     client = Client(
-        config.url,
-        timeout=config.request_timeout_s,
-        watchdog_intervall=config.watchdog_interval_s,
+        config.url, timeout=config.request_timeout_s, watchdog_intervall=ASYNCUA_WATCHDOG_S
     )
     client.name = client.description = "twinlink OPC UA connector"
     client.product_uri = "urn:twinlink"
@@ -160,14 +142,14 @@ async def new_client(
         if config.password is not None:
             client.set_password(config.password.get_secret_value())
     if identity is not None:
+        endpoint = pick_endpoint(await get_endpoints(config), config)
+        presented = checked_server_certificate(endpoint, config, server_certificate)
         client.application_uri = identity.application_uri
         await client.set_security(
             POLICIES[config.security_policy],
             CertProperties(identity.certificate, "pem"),
             CertProperties(identity.private_key, "pem"),
-            server_certificate=(
-                None if server_certificate is None else CertProperties(server_certificate, "der")
-            ),
+            server_certificate=CertProperties(presented, "der"),
             mode=MODES[config.security_mode],
         )
     return client
@@ -176,7 +158,10 @@ async def new_client(
 def server_certificate_der(config: OpcUaConfig) -> bytes | None:
     if config.server_certificate is None:
         return None
-    cert = read_certificate(config.server_certificate)
+    try:
+        cert = read_certificate(config.server_certificate, "server_certificate")
+    except CertificateFileError as err:
+        raise ConnectorError(str(err)) from None
     return cert.public_bytes(serialization.Encoding.DER)
 
 
@@ -190,18 +175,41 @@ class Failure:
     state: str
 
 
-def explain_failure(err: BaseException, config: OpcUaConfig) -> Failure:
+async def explain_attempt(
+    err: BaseException, config: OpcUaConfig, identity: ClientIdentity | None
+) -> Failure:
+    """What a failed attempt means; when the server refused the session or the channel, its
+    endpoints are asked (GetEndpoints) to say what it takes instead."""
+    failure = explain_failure(err, config)
+    if failure.kind not in ("auth_failed", "security") or isinstance(
+        err, ServerCertificateMismatch
+    ):
+        return failure
+    try:
+        async with asyncio.timeout(config.request_timeout_s):
+            endpoints = await get_endpoints(config)
+    except (OSError, TimeoutError, UaError):
+        return failure  # the first explanation stands
+    generated = identity is not None and identity.generated
+    return explain_failure(err, config, endpoints, generated)
+
+
+def explain_failure(
+    err: BaseException,
+    config: OpcUaConfig,
+    endpoints: Sequence[ua.EndpointDescription] | None = None,
+    generated: bool = False,
+) -> Failure:
+    """What a failed attempt means for the person reading the status; `endpoints` (when they
+    could be read) tell what the server takes instead of what it refused."""
     url = config.url
+    if isinstance(err, ServerCertificateMismatch):
+        return Failure("security", f"{url}: {err.explain()}", "error")
     if isinstance(err, UaStatusCodeError):
         name = status_name(err)
         if name in AUTH_CODES:
-            if config.username is None:
-                text = f"{url} refused an anonymous session ({name}); set username and password"
-            else:
-                text = (
-                    f"{url} refused user {config.username!r} ({name}); check username and password"
-                )
-            return Failure("auth_failed", text, "error")
+            return Failure("auth_failed", _refused_session(name, config, endpoints, generated),
+                           "error")  # fmt: skip
         if name in SECURITY_CODES or name.startswith("BadCertificate"):
             text = (
                 f"{url} refused the secure channel ({name}); check security_policy, "
@@ -210,16 +218,38 @@ def explain_failure(err: BaseException, config: OpcUaConfig) -> Failure:
             return Failure("security", text, "error")
         return Failure("connect_failed", f"{url} refused the connection ({name})", "reconnecting")
     if isinstance(err, UaError) and "No matching endpoints" in str(err):
+        listed = "" if endpoints is None else f" (its endpoints: {offered(endpoints)})"
         if config.security_policy == "None":
-            text = f"{url} offers no endpoint without security; set security_policy"
+            text = f"{url} offers no endpoint without security{listed}; set security_policy"
         else:
             text = (
                 f"{url} offers no endpoint with security_policy {config.security_policy} and "
-                f"security_mode {config.security_mode}"
+                f"security_mode {config.security_mode}{listed}"
             )
         return Failure("security", text, "error")
+    return _unreachable(err, config)
+
+
+def _refused_session(
+    name: str,
+    config: OpcUaConfig,
+    endpoints: Sequence[ua.EndpointDescription] | None,
+    generated: bool,
+) -> str:
+    who = "an anonymous session" if config.username is None else f"user {config.username!r}"
+    if endpoints is not None:
+        hint = refused_session_hint(endpoints, config, generated)
+    elif config.username is None:
+        hint = "set username and password, or give a client certificate the server trusts"
+    else:
+        hint = "check username and password"
+    return f"{config.url} refused {who} ({name}); {hint}"
+
+
+def _unreachable(err: BaseException, config: OpcUaConfig) -> Failure:
+    url = config.url
     if isinstance(err, TimeoutError):
-        text = f"{url} did not answer within {config.request_timeout_s:g} s"
+        text = f"{url} did not answer within {config.request_timeout_s:g} s (request_timeout_s)"
         return Failure("connect_failed", text, "reconnecting")
     if isinstance(err, ConnectionRefusedError):
         text = f"cannot reach {url}: connection refused (is the server running?)"

@@ -17,6 +17,7 @@ from typing import Literal, Self
 from asyncua import ua
 from pydantic import BaseModel, ConfigDict, Field, SecretStr, field_validator, model_validator
 
+from twinlink.connectors.opcua_certs import read_certificate, read_key_pair
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
 
 SecurityPolicy = Literal["None", "Basic256Sha256", "Aes128_Sha256_RsaOaep", "Aes256_Sha256_RsaPss"]
@@ -208,7 +209,22 @@ class OpcUaConfig(_Strict):
             raise ValueError("a certificate is used only with a security_policy other than None")
         if self.reconnect_max_s < self.reconnect_initial_s:
             raise ValueError("reconnect_max_s must be at least reconnect_initial_s")
+        self._check_files()
         return self
+
+    def _check_files(self) -> None:
+        # Read here, so a file that cannot work (missing, not a certificate, a key of another
+        # certificate) is a 422 when the connector is created, not a secure channel that
+        # fails later with a timeout. CertificateFileError is a ValueError: pydantic reports it.
+        if self.certificate is not None and self.private_key is not None:
+            password = self.private_key_password
+            read_key_pair(
+                self.certificate,
+                self.private_key,
+                password.get_secret_value() if password is not None else None,
+            )
+        if self.server_certificate is not None:
+            read_certificate(self.server_certificate, "server_certificate")
 
     def queue_size(self, signal: SignalMapping) -> int:
         """The signal's queue size, or enough for two publishing intervals of samples."""

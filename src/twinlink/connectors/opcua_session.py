@@ -7,18 +7,22 @@ and the nodes' data types are looked up again after a reconnect (the server may 
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+import itertools
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
 from asyncua import ua
 from asyncua.client.client import Client
-from asyncua.common.methods import call_method_full
 from asyncua.common.subscription import OverflowPolicy, Subscription
 from asyncua.common.ua_utils import data_type_to_variant_type
 from asyncua.ua.attribute_ids import AttributeIds
+from asyncua.ua.object_ids import ObjectIds
+from asyncua.ua.ua_binary import struct_from_binary
 from asyncua.ua.uaerrors import BadNoMatch, UaStatusCodeError
 
-from twinlink.connectors.base import ConnectorStatus
 from twinlink.connectors.opcua_client import status_name
 from twinlink.connectors.opcua_config import (
     MethodCommand,
@@ -71,19 +75,31 @@ class NodeResolver:
         return ua.NodeId(ref.node_id.Identifier, index, ref.node_id.NodeIdType)
 
 
+@dataclass(frozen=True, slots=True)
+class FailedNode:
+    """A signal whose node the server did not find or will not monitor, and why."""
+
+    signal: str
+    node: str
+    reason: str
+
+    def text(self) -> str:
+        return f"{self.signal}: {self.reason}"
+
+
 @dataclass(slots=True)
 class Subscribed:
-    """The session's subscription and the signal of each monitored item's client handle."""
+    """The session's subscription, the signal of each monitored item's client handle, and
+    the signals that could not be subscribed, in the order of the configuration."""
 
     subscription: Subscription
     signals: dict[int, str] = field(default_factory=dict)
+    failed: list[FailedNode] = field(default_factory=list)
 
 
-async def subscribe(
-    client: Client, config: OpcUaConfig, nodes: NodeResolver, status: ConnectorStatus
-) -> Subscribed:
+async def subscribe(client: Client, config: OpcUaConfig, nodes: NodeResolver) -> Subscribed:
     """Create the subscription with one monitored item per signal. A node that cannot be
-    found or monitored is counted as an error (`subscribe_failed`); the others go on."""
+    found or monitored is listed in `failed` with the reason; the others go on."""
     subscription = await client.create_subscription(
         config.publishing_interval_ms,
         None,  # notifications are read from the subscription as they queue up
@@ -96,7 +112,7 @@ async def subscribe(
         try:
             node_id = await nodes.node_id(signal.node)
         except CommandFailed as err:
-            status.error("subscribe_failed", f"{signal.signal}: {err}")
+            out.failed.append(FailedNode(signal.signal, signal.node, str(err)))
             continue
         requests.append((signal, _monitor_request(handle, node_id, signal, config)))
     if not requests:
@@ -104,10 +120,13 @@ async def subscribe(
     results = await subscription.create_monitored_items([r for _, r in requests])
     for (signal, request), result in zip(requests, results, strict=True):
         if isinstance(result, ua.StatusCode):
-            text = f"{signal.signal}: the server does not monitor {signal.node} ({result.name})"
-            status.error("subscribe_failed", text)
+            reason = f"the server does not monitor {signal.node} ({result.name})"
+            out.failed.append(FailedNode(signal.signal, signal.node, reason))
         else:
             out.signals[request.RequestedParameters.ClientHandle] = signal.signal
+    # In the configuration's order, whichever step refused them.
+    order = {s.signal: i for i, s in enumerate(config.signals)}
+    out.failed.sort(key=lambda f: order[f.signal])
     return out
 
 
@@ -133,8 +152,36 @@ def _monitor_request(
     )
 
 
+async def send_request(client: Client, request: Any, timeout: float) -> Any:
+    """Send one service request that may take `timeout` s: asyncua's own service calls
+    (Node.call_method, Node.read_value) give up after request_timeout_s."""
+    protocol = client.uaclient.protocol
+    if protocol is None:
+        raise ConnectionError("the connection to the OPC UA server is closed")
+    return await protocol.send_request(request, timeout=timeout)
+
+
+async def read_server_state(client: Client, timeout: float) -> None:
+    """Read the server's state (Server.ServerStatus.State), waiting up to `timeout` s."""
+    read = ua.ReadRequest()
+    read.Parameters.NodesToRead = [
+        ua.ReadValueId(
+            NodeId=ua.NodeId(ua.Int32(ObjectIds.Server_ServerStatus_State)),
+            AttributeId=ua.UInt32(AttributeIds.Value),
+        )
+    ]
+    data = await send_request(client, read, timeout)
+    response: ua.ReadResponse = struct_from_binary(ua.ReadResponse, data)
+    response.ResponseHeader.ServiceResult.check()
+
+
 class CommandRunner:
-    """Twin commands as writes and method calls on the session's server."""
+    """Twin commands as writes and method calls on the session's server.
+
+    A method call may run as long as its command may (until the command expires), not only
+    `request_timeout_s`: a machine's method (home an axis, run a cycle) often takes seconds.
+    `busy_until` tells the connector's watchdog how long the server may be busy with calls,
+    as a server may answer a session's requests one at a time."""
 
     def __init__(self, client: Client, config: OpcUaConfig, nodes: NodeResolver) -> None:
         self.client = client
@@ -142,16 +189,28 @@ class CommandRunner:
         self.nodes = nodes
         self._types: dict[ua.NodeId, ua.VariantType] = {}
         self._inputs: dict[ua.NodeId, list[ua.VariantType] | None] = {}
+        self._calls: dict[int, float] = {}  # a call in flight -> its deadline (loop time)
+        self._call_ids = itertools.count()
 
-    async def run(self, name: str, args: dict[str, Any]) -> Any:
-        """The command's result; raises CommandFailed with the reason it failed."""
+    def busy_until(self) -> float | None:
+        """The latest deadline (loop time) of the method calls in flight, None without any."""
+        return max(self._calls.values(), default=None)
+
+    async def run(self, name: str, args: dict[str, Any], deadline: float | None = None) -> Any:
+        """The command's result; raises CommandFailed with the reason it failed. `deadline`
+        (loop time) is when the command expires: how long a method call may take."""
         mapping = self.config.commands[name]
         try:
             if isinstance(mapping, WriteCommand):
                 return await self._write(mapping, args)
-            return await self._call(mapping, args)
+            return await self._call(mapping, args, deadline)
         except UaStatusCodeError as err:
             raise CommandFailed(f"the server refused it: {status_name(err)}") from err
+        except TimeoutError:  # a lookup or a write: asyncua's per-request timeout
+            limit = self.config.request_timeout_s
+            raise CommandFailed(
+                f"the server did not answer a request within {limit:g} s (request_timeout_s)"
+            ) from None
 
     async def _write(self, mapping: WriteCommand, args: dict[str, Any]) -> Any:
         if mapping.arg not in args:
@@ -167,11 +226,13 @@ class CommandRunner:
         await node.write_value(ua.DataValue(variant))
         return {"node": mapping.node, "value": json_value(variant.Value)}
 
-    async def _call(self, mapping: MethodCommand, args: dict[str, Any]) -> Any:
+    async def _call(
+        self, mapping: MethodCommand, args: dict[str, Any], deadline: float | None
+    ) -> Any:
         missing = [name for name in mapping.args if name not in args]
         if missing:
             raise CommandFailed(f"the arguments {', '.join(map(repr, missing))} are missing")
-        parent = self.client.get_node(await self.nodes.node_id(mapping.object))
+        parent = await self.nodes.node_id(mapping.object)
         method_id = await self.nodes.node_id(mapping.method)
         types = await self._input_types(method_id)
         if types is not None and len(types) != len(mapping.args):
@@ -186,8 +247,45 @@ class CommandRunner:
                 variants.append(variant_for(args[name], vtype))
             except ValueRefused as err:
                 raise CommandFailed(f"argument {name!r}: {err}") from None
-        result = await call_method_full(parent, method_id, *variants)
-        return {"outputs": [json_value(value) for value in result.OutputArguments]}
+        request = ua.CallMethodRequest(ObjectId=parent, MethodId=method_id, InputArguments=variants)
+        result = await self._send_call(request, mapping, deadline)
+        return {"outputs": [json_value(value.Value) for value in result.OutputArguments or []]}
+
+    async def _send_call(
+        self, request: ua.CallMethodRequest, mapping: MethodCommand, deadline: float | None
+    ) -> ua.CallMethodResult:
+        loop = asyncio.get_running_loop()
+        why = "the time the command had left (send it with a longer timeout_s)"
+        if deadline is None:  # a command without an expiry: the usual request timeout
+            deadline = loop.time() + self.config.request_timeout_s
+            why = "request_timeout_s"
+        limit = deadline - loop.time()
+        if limit <= 0:
+            raise CommandFailed("the command expired before the method could be called")
+        call = ua.CallRequest()
+        call.Parameters.MethodsToCall = [request]
+        with self._in_flight(deadline):
+            try:
+                data = await send_request(self.client, call, limit)
+            except TimeoutError:
+                raise CommandFailed(
+                    f"the server did not answer the call of {mapping.method} within "
+                    f"{limit:.3g} s, {why}"
+                ) from None
+        response: ua.CallResponse = struct_from_binary(ua.CallResponse, data)
+        response.ResponseHeader.ServiceResult.check()
+        result: ua.CallMethodResult = response.Results[0]
+        result.StatusCode.check()
+        return result
+
+    @contextlib.contextmanager
+    def _in_flight(self, deadline: float) -> Iterator[None]:
+        key = next(self._call_ids)
+        self._calls[key] = deadline
+        try:
+            yield
+        finally:
+            del self._calls[key]
 
     async def _input_types(self, method_id: ua.NodeId) -> list[ua.VariantType] | None:
         """The method's input argument types, None when it does not declare them."""
