@@ -171,9 +171,17 @@ class OpcUaConfig(_Strict):
     batch_window_ms: float = Field(
         20.0, gt=0, le=10_000, description="...or this long after its first sample."
     )
-    request_timeout_s: float = Field(5.0, gt=0, description="Timeout of each OPC UA request.")
+    request_timeout_s: float = Field(
+        5.0,
+        gt=0,
+        description="Timeout of each OPC UA request; a method call may take until its command "
+        "expires.",
+    )
     watchdog_interval_s: float = Field(
-        1.0, gt=0, description="How often a quiet connection is checked by reading the server."
+        1.0,
+        gt=0,
+        description="How often the connection is checked by reading the server's state (a "
+        "check not answered within request_timeout_s ends the session).",
     )
     reconnect_initial_s: float = Field(1.0, gt=0, description="First wait before reconnecting.")
     reconnect_max_s: float = Field(30.0, gt=0, description="Longest wait between attempts.")
