@@ -61,10 +61,12 @@ class LastUsed:
     async def _run(self) -> None:
         # An event rather than cancel(): a write under way always finishes, and the last
         # one runs after close() was called.
-        while not self._stop.is_set():
+        while True:
             with contextlib.suppress(TimeoutError):
                 await asyncio.wait_for(self._stop.wait(), self.every_s)
             await self.write()
+            if self._stop.is_set():
+                return
 
     async def write(self) -> bool:
         """Write the waiting times; False (logged once until it works again) when the store
