@@ -20,8 +20,9 @@ import pytest
 from tests.unit._faulty import FaultyConnection, disk_error
 from twinlink.commands.db import WriteBehind
 from twinlink.commands.model import CommandRecord
-from twinlink.domain.errors import StorageError, StorageFullError
+from twinlink.domain.errors import StorageError, StorageFullError, TooManySignalsError
 from twinlink.domain.samples import SampleBatch
+from twinlink.ingest.service import IngestService
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite import db as db_module
 from twinlink.store.sqlite.faults import StorageFaults, translate
@@ -319,3 +320,62 @@ async def test_command_changes_a_full_disk_refused_are_written_with_the_next_wri
     log.save(command("c"))
     await log.close()  # best effort at shutdown: no error
     assert log.closed
+
+
+# -- processor outputs the store refuses -------------------------------------------------------
+
+
+class RefusingHistory:
+    def __init__(self, error: Exception) -> None:
+        self.error = error
+
+    async def append(self, batch: SampleBatch, device_id: int | None = None) -> bool:
+        raise self.error
+
+
+class Bus:
+    def __init__(self) -> None:
+        self.published = 0
+
+    async def publish(self, subject: str, batch: SampleBatch) -> None:
+        self.published += 1
+
+
+class Registry:
+    generation = 0
+
+
+async def test_refused_processor_output_is_logged_once_a_minute_per_stream(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    refusal = TooManySignalsError("this batch would give stream 'fmu' 1001 signals")
+    bus = Bus()
+    ingest = IngestService(Registry(), RefusingHistory(refusal), bus)  # type: ignore[arg-type]
+    out = SampleBatch(1, "rig", "fmu", [T], [{"x": 1.0}], T, source="processor:sim")
+    with caplog.at_level(logging.INFO, logger="twinlink.ingest"):
+        for _ in range(50):  # a processor sends its next output a moment later
+            await ingest.publish_first(out)
+        await asyncio.gather(*list(ingest._storing), return_exceptions=True)
+        await asyncio.sleep(0)  # the done callbacks
+    assert bus.published == 50  # live views still get them; the log does not fill up
+    assert ingest.outputs_not_stored == 50
+    assert [r.getMessage() for r in caplog.records] == [
+        "output of processor:sim not stored (stream 'fmu' of twin 'rig'): this batch would "
+        "give stream 'fmu' 1001 signals"
+    ]
+
+
+async def test_processor_output_refused_by_a_full_disk_is_left_to_the_store_to_log(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    ingest = IngestService(
+        Registry(),  # type: ignore[arg-type]
+        RefusingHistory(StorageFullError("full")),  # type: ignore[arg-type]
+        Bus(),  # type: ignore[arg-type]
+    )
+    out = SampleBatch(1, "rig", "fmu", [T], [{"x": 1.0}], T, source="processor:sim")
+    with caplog.at_level(logging.INFO, logger="twinlink.ingest"):
+        await ingest.publish_first(out)
+        await asyncio.gather(*list(ingest._storing), return_exceptions=True)
+        await asyncio.sleep(0)
+    assert ingest.outputs_not_stored == 1 and caplog.records == []
