@@ -8,6 +8,7 @@ import contextlib
 import logging
 import time
 
+from twinlink.domain.errors import StorageError
 from twinlink.store.base import MetadataStore
 from twinlink.store.records import AuditEntry
 
@@ -55,6 +56,8 @@ class AuditLog:
         try:
             await self.store.add_audit(batch, keep_after)
             self.written += len(batch)
+        except StorageError:  # a full disk: the store logs that once a minute
+            self.dropped += len(batch)
         except Exception:
             self.dropped += len(batch)
             log.exception("gateway audit write failed", extra={"event": "audit_failed"})
