@@ -55,7 +55,9 @@ def test_syntax_errors_name_line_and_column(text: str, line: int, column: int) -
     assert (err.value.line, err.value.column) == (line, column)
 
 
-@pytest.mark.parametrize("text", ['{"a": NaN}', '{"a": 1e999}', "[1,", '"\\ud800"'])
+@pytest.mark.parametrize(
+    "text", ['{"a": NaN}', '{"a": 1e999}', "[1,", '"\\ud800"', "[" * 5000 + "]" * 5000]
+)
 def test_other_bad_json_is_refused(text: str) -> None:
     with pytest.raises(JsonTextError):
         loads(text)

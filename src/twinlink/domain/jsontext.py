@@ -104,6 +104,8 @@ def loads(data: bytes | bytearray | memoryview | str) -> Any:
     raw = data.encode() if isinstance(data, str) else bytes(data)
     try:
         return _DECODER.decode(raw)
+    except RecursionError:  # msgspec's own guard, at about 1 000 levels
+        raise JsonTextError("the JSON text is nested too deeply (1 000 levels or more)") from None
     except msgspec.ValidationError as err:  # a number no type can hold
         text = str(err)
         if text.startswith("Integer value out of range"):
