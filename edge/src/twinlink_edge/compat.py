@@ -117,7 +117,8 @@ class Connect:
         if self.device.wait_connected(timeout):
             # The queued commands follow the welcome: after a round trip they are here.
             try:
-                self.device._call(self.device.aio._round_trip(deadline - time.monotonic()))
+                left = max(0.0, deadline - time.monotonic())
+                self.device._call(self.device.aio._round_trip(left))
                 return
             except TimeoutError:
                 pass

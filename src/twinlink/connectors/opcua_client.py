@@ -178,12 +178,10 @@ class Failure:
 async def explain_attempt(
     err: BaseException, config: OpcUaConfig, identity: ClientIdentity | None
 ) -> Failure:
-    """What a failed attempt means; when the server refused the session or the channel, its
-    endpoints are asked (GetEndpoints) to say what it takes instead."""
+    """What a failed attempt means; when the server refused the session or has no endpoint
+    like the settings, its endpoints are asked (GetEndpoints) to say what it takes instead."""
     failure = explain_failure(err, config)
-    if failure.kind not in ("auth_failed", "security") or isinstance(
-        err, ServerCertificateMismatch
-    ):
+    if failure.kind != "auth_failed" and not _no_matching_endpoint(err):
         return failure
     try:
         async with asyncio.timeout(config.request_timeout_s):
@@ -217,7 +215,7 @@ def explain_failure(
             )
             return Failure("security", text, "error")
         return Failure("connect_failed", f"{url} refused the connection ({name})", "reconnecting")
-    if isinstance(err, UaError) and "No matching endpoints" in str(err):
+    if _no_matching_endpoint(err):
         listed = "" if endpoints is None else f" (its endpoints: {offered(endpoints)})"
         if config.security_policy == "None":
             text = f"{url} offers no endpoint without security{listed}; set security_policy"
@@ -228,6 +226,11 @@ def explain_failure(
             )
         return Failure("security", text, "error")
     return _unreachable(err, config)
+
+
+def _no_matching_endpoint(err: BaseException) -> bool:
+    # asyncua's Client.find_endpoint raises a bare UaError with this text.
+    return isinstance(err, UaError) and "No matching endpoints" in str(err)
 
 
 def _refused_session(
