@@ -93,7 +93,10 @@ def start_server(
         stop_server(server)
         raise RuntimeError(f"twinlink did not start:\n{server.log()}")
     with httpx.Client() as c:
-        assert c.get(f"{server.url}/healthz").status_code == 200
+        status = c.get(f"{server.url}/healthz").status_code
+    if status != 200:  # stop it: a server left running would outlive the test session
+        stop_server(server)
+        raise RuntimeError(f"twinlink answered /healthz with {status}:\n{server.log()}")
     return server
 
 
