@@ -8,22 +8,22 @@ from typing import Any
 
 import click
 
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit
 from twinlink.client import ClientError, forget_credentials, save_credentials
 from twinlink.config import ConfigError
 
 YAML_SUFFIXES = (".yaml", ".yml", ".json")
 
 
-class _Group(click.Group):
-    """Turns a ClientError into a clear message and exit status 1, never a traceback."""
+class _Group(HelpGroup):
+    """Turns a ClientError into a clear message and exit status 1, never a traceback; in
+    click's own style ("Error: ..."), as its usage errors are."""
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
         except (ClientError, ConfigError) as err:
-            click.echo(f"error: {err}", err=True)
-            ctx.exit(1)
+            raise click.ClickException(str(err)) from None
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -102,7 +102,7 @@ def _document_files(paths: tuple[str, ...]) -> list[Path]:
     return files
 
 
-@main.command()
+@main.command(short_help="Create or update twins and connectors from files; idempotent.")
 @click.option(
     "-f",
     "--filename",

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import click
 
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit, table
 from twinlink.client import Client
 
 # -- twins ---------------------------------------------------------------------------------
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def twins() -> None:
     """List, show and delete twins."""
 
@@ -123,7 +123,7 @@ def twins_revoke(ctx: click.Context, slug: str, username: str) -> None:
 # -- users ---------------------------------------------------------------------------------
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def users() -> None:
     """Manage users (admins)."""
 
@@ -234,7 +234,7 @@ def users_rm(ctx: click.Context, username: str) -> None:
 # -- tokens --------------------------------------------------------------------------------
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def tokens() -> None:
     """Manage API tokens."""
 
@@ -280,7 +280,7 @@ def tokens_revoke(ctx: click.Context, token_id: int) -> None:
 # -- devices -------------------------------------------------------------------------------
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def devices() -> None:
     """Manage the devices of a twin and their tokens."""
 
@@ -289,10 +289,31 @@ def devices() -> None:
 @click.argument("slug")
 @click.pass_context
 def devices_ls(ctx: click.Context, slug: str) -> None:
-    """List a twin's devices (never their tokens)."""
-    for d in client_for(ctx).json("GET", f"/api/v1/twins/{slug}/devices")["devices"]:
-        seen = "connected" if d.get("connected") else d["last_seen"] or "never seen"
-        click.echo(f"{d['name']:<24} {d['token_prefix']}…  {seen:<24}  {d['description']}".rstrip())
+    """List a twin's devices (never their tokens).
+
+    SEEN is `connected` while the device (or the connector speaking for it) is connected,
+    else when it was last seen. The last line says where a command that names no device goes.
+    """
+    answer = client_for(ctx).json("GET", f"/api/v1/twins/{slug}/devices")
+    if not answer["devices"]:
+        click.echo(f"{slug} has no devices; add one with `twinlink devices add {slug} NAME`.")
+        return
+    rows = [
+        [
+            d["name"],
+            f"{d['token_prefix']}…",
+            "connected" if d.get("connected") else d["last_seen"] or "never seen",
+            d["description"],
+        ]
+        for d in answer["devices"]
+    ]
+    table(["NAME", "TOKEN", "SEEN", "DESCRIPTION"], rows)
+    if "default_device" not in answer:
+        return  # a server from before default devices
+    if answer["default_device"]:
+        click.echo(f"Commands that name no device go to {answer['default_device']}.")
+    else:
+        click.echo("Commands must name their device (twinlink send ... --device NAME).")
 
 
 @devices.command("add")

@@ -8,7 +8,8 @@ from typing import Any
 import click
 import orjson
 
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit
+from twinlink.client import ClientError
 
 _HTTP_MARGIN_S = 30.0  # the HTTP request outlives the command's own timeout by this much
 
@@ -32,11 +33,15 @@ def _json(value: Any) -> str:
     return orjson.dumps(value, option=orjson.OPT_INDENT_2).decode()
 
 
-@click.command()
+@click.command(short_help="Send COMMAND to a device of TWIN and print the result.")
 @click.argument("twin")
 @click.argument("command")
 @click.argument("args", nargs=-1)
-@click.option("-d", "--device", help="The device (needed when the twin has several).")
+@click.option(
+    "-d", "--device", metavar="NAME",
+    help="The device [default: the twin's only device, else the `default_device` of its "
+    "interface, else its only connected device].",
+)  # fmt: skip
 @click.option(
     "-t", "--timeout", type=click.FloatRange(min=0, min_open=True),
     help="Seconds until the command expires [default: the server's, 10].",
@@ -66,7 +71,14 @@ def send(
     body.update(device=device, timeout_s=timeout, queue=queue, wait=not no_wait)
     client = client_for(ctx)
     client.http.timeout = (timeout or 3600.0) + _HTTP_MARGIN_S
-    record = client.json("POST", f"/api/v1/twins/{twin}/commands", json=body)
+    try:
+        record = client.json("POST", f"/api/v1/twins/{twin}/commands", json=body)
+    except ClientError as err:
+        reason = (err.problem or {}).get("reason") if device is None else None
+        if not isinstance(reason, str):
+            raise
+        # The server could not choose a device; it names the API's field, this names ours.
+        raise ClientError(f"{reason}; name one with --device NAME") from None
     if as_json:
         click.echo(_json(record))
     else:
@@ -74,7 +86,7 @@ def send(
         if record["result"] is not None:
             click.echo(_json(record["result"]))
     if record["error"]:
-        click.echo(f"error: {record['error']}", err=True)
+        click.echo(f"Error: {record['error']}", err=True)
     if record["state"] in ("failed", "expired"):
         ctx.exit(1)
 
@@ -82,7 +94,7 @@ def send(
 # -- the command log -------------------------------------------------------------------------
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def commands() -> None:
     """The command log of a twin."""
 
@@ -136,7 +148,7 @@ def commands_get(ctx: click.Context, twin: str, command_id: str, as_json: bool) 
 # -- properties ------------------------------------------------------------------------------
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def properties() -> None:
     """Reported and desired properties of a device."""
 

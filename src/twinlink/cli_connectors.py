@@ -9,7 +9,7 @@ import click
 import yaml
 
 from twinlink.cli_commands import parse_assignments
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit, table
 from twinlink.client import Client, ClientError
 
 
@@ -17,15 +17,21 @@ def _base(twin: str) -> str:
     return f"/api/v1/twins/{twin}/connectors"
 
 
-def _line(c: dict[str, Any]) -> str:
+_HEADER = ["NAME", "KIND", "DEVICE", "STATE", "MESSAGES", "SAMPLES", "ERRORS"]
+
+
+def _row(c: dict[str, Any]) -> list[str]:
     s = c["status"]
-    errors = f"errors {s['error_count']}" if s["error_count"] else ""
     state = s["state"] if c["enabled"] else "disabled"
-    figures = f"messages {s['messages']} samples {s['samples']} {errors}"
-    return f"{c['name']:<20} {c['kind']:<7} {c['device']:<16} {state:<12} {figures}".rstrip()
+    figures = [str(s["messages"]), str(s["samples"]), str(s["error_count"])]
+    return [c["name"], c["kind"], c["device"], state, *figures]
 
 
-@click.group()
+def _line(c: dict[str, Any]) -> str:
+    return "  ".join(_row(c))
+
+
+@click.group(cls=HelpGroup)
 def connectors() -> None:
     """Connectors of a twin: UDP datasources and OPC UA servers feeding one of its devices."""
 
@@ -54,8 +60,11 @@ def connectors_kinds(ctx: click.Context, as_json: bool) -> None:
 @click.pass_context
 def connectors_ls(ctx: click.Context, twin: str) -> None:
     """List TWIN's connectors with their state and figures."""
-    for c in client_for(ctx).json("GET", _base(twin))["connectors"]:
-        click.echo(_line(c))
+    found = client_for(ctx).json("GET", _base(twin))["connectors"]
+    if not found:
+        click.echo(f"{twin} has no connectors.")
+        return
+    table(_HEADER, [_row(c) for c in found])
 
 
 @connectors.command("show")

@@ -8,10 +8,11 @@ from pathlib import Path
 from typing import Any
 
 import click
+import httpx
 import orjson
 import yaml
 
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit, table
 
 
 def _base(twin: str) -> str:
@@ -56,11 +57,17 @@ def _settings(
     return body
 
 
-def _line(s: dict[str, Any]) -> str:
+_HEADER = ["NAME", "SOURCE", "AUTH", "HEALTH", "BASE URL"]
+
+
+def _row(s: dict[str, Any]) -> list[str]:
     health = (s.get("health") or {}).get("status", "-")
     state = "blocked" if s.get("blocked") else health
-    auth = s["auth"]["method"]
-    return f"{s['name']:<22} {s['source']:<9} {auth:<26} {state:<8} {s['base_url'] or '-'}"
+    return [s["name"], s["source"], s["auth"]["method"], state, s["base_url"] or "-"]
+
+
+def _line(s: dict[str, Any]) -> str:
+    return "  ".join(_row(s))
 
 
 _SETTINGS_OPTIONS = [
@@ -95,7 +102,7 @@ def _with_settings(fn: Any) -> Any:
     return fn
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def services() -> None:
     """A twin's gateway services: the Data Link's one entry point to its features."""
 
@@ -104,9 +111,26 @@ def services() -> None:
 @click.argument("twin")
 @click.pass_context
 def services_ls(ctx: click.Context, twin: str) -> None:
-    """List TWIN's services (from its DT document and added by API)."""
-    for s in client_for(ctx).json("GET", _base(twin))["services"]:
-        click.echo(_line(s))
+    """List TWIN's gateway services (from its DT document and added by API).
+
+    HEALTH is the last health check's result (- until the first). Features of the document
+    without an `apiAddress` are not gateway services: they are described only, and named
+    after the list.
+    """
+    client = client_for(ctx)
+    found = client.json("GET", _base(twin))["services"]
+    if found:
+        table(_HEADER, [_row(s) for s in found])
+    else:
+        click.echo(f"{twin} has no gateway services.")
+    document = client.json("GET", f"/api/v1/twins/{twin}")["document"]
+    described = [
+        str(f.get("name"))
+        for f in document.get("features") or []
+        if isinstance(f, dict) and not f.get("apiAddress")
+    ]
+    if described:
+        click.echo(f"Described only (no apiAddress): {', '.join(described)}")
 
 
 @services.command("show")
@@ -199,7 +223,11 @@ def services_call(
     data: str | None,
     headers: tuple[str, ...],
 ) -> None:
-    """Send a request to a service through the gateway and print the answer."""
+    """Send a request to a service through the gateway and print the answer.
+
+    On a terminal a JSON answer is indented; piped or redirected, the answer's bytes are
+    written as they came (a CAD file stays a CAD file).
+    """
     body: bytes | None = None
     if data is not None:
         body = (
@@ -214,7 +242,21 @@ def services_call(
         content=body,
         headers={k.strip(): v.strip() for k, v in sent.items()},
     )
-    click.echo(response.text)
+    if not sys.stdout.isatty():
+        sys.stdout.buffer.write(response.content)
+        sys.stdout.flush()
+        return
+    click.echo(_readable(response))
+
+
+def _readable(response: httpx.Response) -> str:
+    """The answer for a person: JSON indented, other text as it is."""
+    if "json" in response.headers.get("content-type", ""):
+        try:
+            return orjson.dumps(orjson.loads(response.content), option=orjson.OPT_INDENT_2).decode()
+        except orjson.JSONDecodeError:
+            pass  # not what it says it is (or integers beyond 64 bits): show it as sent
+    return response.text
 
 
 @click.command()
@@ -261,7 +303,7 @@ def audit(
         )
 
 
-@click.group("service-accounts")
+@click.group("service-accounts", cls=HelpGroup)
 def service_accounts() -> None:
     """Identities for features that call other services through the gateway."""
 

@@ -10,7 +10,7 @@ from typing import IO, Any
 import click
 import httpx
 
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit, show_value, table
 from twinlink.client import Client, ClientError, _explain
 
 _TIME_HELP = "ISO 8601, ns since the epoch, now, or back from now (-1h, -15m, -7d)."
@@ -31,23 +31,7 @@ def show_time(ns: int | None) -> str:
     return f"{text}.{fraction // 1000:06d}Z" if fraction else f"{text}Z"
 
 
-def show_value(value: Any) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return str(value)
-
-
-def _table(header: list[str], rows: list[list[str]]) -> None:
-    widths = [len(h) for h in header]
-    for row in rows:
-        widths = [max(w, len(cell)) for w, cell in zip(widths, row, strict=True)]
-    for line in [header, *rows]:
-        click.echo("  ".join(cell.ljust(w) for cell, w in zip(line, widths, strict=True)).rstrip())
-
-
-@click.group()
+@click.group(cls=HelpGroup)
 def history() -> None:
     """Read a twin's stored telemetry (needs a role on the twin)."""
 
@@ -80,7 +64,7 @@ def history_streams(ctx: click.Context, twin: str, as_json: bool) -> None:
     if not rows:
         click.echo(f"{twin} has no stored telemetry.")
         return
-    _table(["STREAM", "SIGNAL", "KIND", "SAMPLES", "FIRST", "LAST"], rows)
+    table(["STREAM", "SIGNAL", "KIND", "SAMPLES", "FIRST", "LAST"], rows)
 
 
 @history.command("latest")
@@ -94,7 +78,8 @@ def history_latest(
 ) -> None:
     """Print the newest value of each signal.
 
-    Of STREAM, or of every stream of TWIN when STREAM is left out.
+    Of STREAM, or of every stream of TWIN when STREAM is left out. Numbers with a fraction
+    are shown to 6 significant digits; --json prints them whole.
     """
     client = client_for(ctx)
     if stream is None:
@@ -113,7 +98,7 @@ def history_latest(
         for a in answers
         for name, v in a["values"].items()
     ]
-    _table(["STREAM", "SIGNAL", "TIME", "VALUE"], rows)
+    table(["STREAM", "SIGNAL", "TIME", "VALUE"], rows)
 
 
 @history.command("show")
@@ -140,7 +125,8 @@ def history_show(
     """Print stored samples as a table.
 
     One row per time and one column per signal; samples sent together share a row. At most
-    --limit rows; the command to print the next ones is shown after them.
+    --limit rows; the command to print the next ones is shown after them. Numbers with a
+    fraction are shown to 6 significant digits; --json and `history export` give them whole.
     """
     params = {"signals": signals, "start": start, "end": end, "limit": limit, "cursor": cursor}
     answer = client_for(ctx).json("GET", f"{_streams_path(twin)}/{stream}/samples", params=params)
@@ -152,7 +138,7 @@ def history_show(
         [show_time(row["time"]), *(show_value(row["values"].get(n)) for n in names)]
         for row in answer["rows"]
     ]
-    _table(["TIME", *names], rows)
+    table(["TIME", *names], rows)
     if not rows:
         click.echo("(no samples in this range)", err=True)
     if answer["next_cursor"]:

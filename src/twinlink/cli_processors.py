@@ -10,7 +10,7 @@ import click
 import yaml
 
 from twinlink.cli_commands import parse_assignments
-from twinlink.cli_common import client_for, emit
+from twinlink.cli_common import HelpGroup, client_for, emit, table
 
 
 def _base(twin: str) -> str:
@@ -32,15 +32,18 @@ def _parse_input(text: str) -> tuple[str, dict[str, Any]]:
     return name, mapping
 
 
-def _line(p: dict[str, Any]) -> str:
+_HEADER = ["NAME", "BLUEPRINT", "STATE", "STREAMS", "SAMPLES IN", "OUT", "RESTARTS"]
+
+
+def _row(p: dict[str, Any]) -> list[str]:
     stats = p.get("stats") or {}
-    figures = ""
-    if stats:
-        figures = (
-            f"in {stats['samples_in']} out {stats['samples_out']} restarts {stats['restarts']}"
-        )
+    figures = [str(stats.get(k, "-")) for k in ("samples_in", "samples_out", "restarts")]
     flow = f"{p['source']} -> {p['output'] or p['name']}"
-    return f"{p['name']:<20} {p['blueprint']:<14} {p['state']:<9} {flow:<28} {figures}".rstrip()
+    return [p["name"], p["blueprint"], p["state"], flow, *figures]
+
+
+def _line(p: dict[str, Any]) -> str:
+    return "  ".join(_row(p))
 
 
 @click.command()
@@ -70,7 +73,7 @@ def blueprints(ctx: click.Context, name: str | None, as_json: bool) -> None:
         click.echo(f"  {pname:<20} {kind:<16} {default:<20} {prop.get('description', '')}")
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def processors() -> None:
     """Processors of a twin: blueprints running on its streams."""
 
@@ -80,8 +83,11 @@ def processors() -> None:
 @click.pass_context
 def processors_ls(ctx: click.Context, twin: str) -> None:
     """List TWIN's processors with their state and figures."""
-    for p in client_for(ctx).json("GET", _base(twin))["processors"]:
-        click.echo(_line(p))
+    found = client_for(ctx).json("GET", _base(twin))["processors"]
+    if not found:
+        click.echo(f"{twin} has no processors.")
+        return
+    table(_HEADER, [_row(p) for p in found])
 
 
 @processors.command("create")
@@ -209,7 +215,7 @@ def processors_logs(ctx: click.Context, twin: str, name: str) -> None:
         click.echo(line["text"])
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def fmus() -> None:
     """FMUs uploaded to a twin, for the fmu blueprint."""
 

@@ -8,7 +8,7 @@ from collections.abc import Awaitable, Callable
 
 import click
 
-from twinlink.cli_common import client_for
+from twinlink.cli_common import HelpGroup, client_for
 
 _DEVICE_HELP = (
     "Device token to send with. Env: TWINLINK_DEVICE_TOKEN. Without one, the device "
@@ -16,7 +16,7 @@ _DEVICE_HELP = (
 )
 
 
-@click.group()
+@click.group(cls=HelpGroup)
 def simulate() -> None:
     """Run a simulated device that streams to a twin and obeys its commands."""
 

@@ -14,7 +14,12 @@ DEFAULT_URL = "http://127.0.0.1:8000"
 
 
 class ClientError(Exception):
-    """The server refused the request, or could not be reached; the message says why."""
+    """The server refused the request, or could not be reached; the message says why.
+    `problem` is the server's problem+json answer, when it sent one."""
+
+    def __init__(self, message: str, problem: dict[str, Any] | None = None) -> None:
+        super().__init__(message)
+        self.problem = problem
 
 
 def credentials_file() -> Path:
@@ -65,11 +70,19 @@ class Client:
         except httpx.HTTPError as err:
             raise ClientError(f"cannot reach twinlink at {self.url}: {err}") from err
         if response.status_code >= 400:
-            raise ClientError(_explain(response))
+            raise ClientError(_explain(response), _problem(response))
         return response
 
     def json(self, method: str, path: str, **kwargs: Any) -> Any:
         return self.request(method, path, **kwargs).json()
+
+
+def _problem(response: httpx.Response) -> dict[str, Any] | None:
+    try:
+        body = response.json()
+    except ValueError:
+        return None
+    return body if isinstance(body, dict) else None
 
 
 def _explain(response: httpx.Response) -> str:

@@ -198,6 +198,7 @@ def test_error_exits_non_zero_with_a_clear_message(cli: Cli) -> None:
     missing = unique("no-such-twin")
     r = cli("twins", "get", missing)
     assert r.code != 0
+    assert r.err.startswith("Error: "), r.err  # click's own style, as for usage errors
     assert missing in r.err and "404" in r.err
     assert "Traceback" not in r.err + r.out
     assert r.out == ""
@@ -300,3 +301,113 @@ def test_devices_ls_says_which_devices_are_connected(cli: Cli) -> None:
             line.split()[0]: line for line in cli("devices", "ls", slug).ok().out.splitlines()
         }
     assert "connected" in listed["dev0"] and "never seen" in listed["spare"]
+
+
+def test_help_lists_every_command_whole_on_an_80_column_terminal(cli: Cli) -> None:
+    groups = [c for c in _commands() if len(c) <= 1]  # the root and each top-level command
+    env = {**cli.env(), "COLUMNS": "80"}
+    procs = [(_start([*g, "--help"], env, None), g) for g in groups]
+    for proc, group in procs:
+        out = _finish(proc, [*group, "--help"], None).ok().out
+        listed = out.split("\nCommands:\n", 1)
+        if len(listed) == 2:  # a group: no summary may be cut off with "..."
+            cut = [line for line in listed[1].splitlines() if line.endswith("...")]
+            assert not cut, f"twinlink {' '.join(group)} --help:\n{out}"
+
+
+def test_lists_have_a_header_row(cli: Cli) -> None:
+    from tests.integration._live import device_twin
+
+    slug, _ = device_twin(cli.server)
+    with cli.server.admin as admin:
+        body = {"name": "echo", "base_url": "http://127.0.0.1:9/api/"}
+        assert admin.post(f"/api/v1/twins/{slug}/services", json=body).status_code == 201
+        body = {"name": "logger", "kind": "udp", "config": {"port": 0, "format": "json"}}
+        assert admin.post(f"/api/v1/twins/{slug}/connectors", json=body).status_code == 201
+    cli("processors", "create", slug, "smooth", "lowpass", "-p", 'signals=["x"]', "-p",
+        "cutoff_hz=2", "-p", "sample_rate_hz=100", "--stopped").ok()  # fmt: skip
+    processors, services, connectors, devices = cli.many(
+        ["processors", "ls", slug],
+        ["services", "ls", slug],
+        ["connectors", "ls", slug],
+        ["devices", "ls", slug],
+    )
+    tables = {
+        "processors": (processors, ["NAME", "BLUEPRINT", "STATE", "STREAMS"], "smooth"),
+        "services": (services, ["NAME", "SOURCE", "AUTH", "HEALTH", "BASE", "URL"], "echo"),
+        "connectors": (connectors, ["NAME", "KIND", "DEVICE", "STATE", "MESSAGES"], "logger"),
+        "devices": (devices, ["NAME", "TOKEN", "SEEN", "DESCRIPTION"], "dev0"),
+    }
+    for what, (result, header, first) in tables.items():
+        lines = result.ok().out.splitlines()
+        assert lines[0].split()[: len(header)] == header, (what, result.out)
+        assert lines[1].split()[0] == first, (what, result.out)
+        # The columns line up: each row's second cell starts where the header's does.
+        column = lines[0].index(header[1])
+        assert lines[1][column - 2 : column] == "  " and lines[1][column] != " ", lines
+
+
+def test_floats_are_printed_at_a_readable_precision(cli: Cli) -> None:
+    from tests.integration._live import batch, device_socket, device_twin, receive, send
+
+    slug, (token,) = device_twin(cli.server)
+    with device_socket(cli.server, token) as ws:
+        receive(ws, "welcome")
+        send(ws, batch(1, [{"time": 1_700_000_000_000_000_000, "values": {"x": 0.123456789012}}]))
+        assert receive(ws, "ack")["seq"] == 1
+    latest = cli("history", "latest", slug, "telemetry").ok().out.splitlines()
+    assert latest[1].split()[-1] == "0.123457"
+    whole = json.loads(cli("history", "latest", slug, "telemetry", "--json").ok().out)
+    assert whole["values"]["x"]["value"] == 0.123456789012
+
+
+def test_services_call_indents_json_on_a_terminal_and_passes_bytes_through_a_pipe(
+    cli: Cli,
+) -> None:
+    import hashlib
+    import pty
+
+    from tests.integration._upstream import Upstream
+    from tests.integration._upstream_answers import download_digest
+
+    upstream = Upstream().start()
+    try:
+        slug = unique("call")
+        with cli.server.admin as admin:
+            apply(admin, twin_doc(f"urn:{slug}", name="Callee", slug=slug))
+            body = {"name": "up", "base_url": upstream.base("open")}
+            assert admin.post(f"/api/v1/twins/{slug}/services", json=body).status_code == 201
+        piped = subprocess.run(
+            [*CLI, "services", "call", slug, "up", "bytes/100000"],
+            env=cli.env(), cwd=ROOT, capture_output=True, timeout=120,
+        )  # fmt: skip
+        assert piped.returncode == 0, piped.stderr
+        assert hashlib.sha256(piped.stdout).hexdigest() == download_digest(100_000)
+        as_json = subprocess.run(
+            [*CLI, "services", "call", slug, "up", "echo/x"],
+            env=cli.env(), cwd=ROOT, capture_output=True, timeout=120,
+        )  # fmt: skip
+        assert b"\n" not in as_json.stdout.rstrip(b"\n")  # as the service sent it
+        assert json.loads(as_json.stdout)["method"] == "GET"
+        controller, terminal = pty.openpty()
+        with subprocess.Popen(
+            [*CLI, "services", "call", slug, "up", "echo/x"],
+            env=cli.env(), cwd=ROOT, stdout=terminal, stderr=subprocess.PIPE,
+        ) as proc:  # fmt: skip
+            os.close(terminal)
+            shown = b""
+            while True:
+                try:
+                    chunk = os.read(controller, 65536)
+                except OSError:  # the terminal closed: the command has ended
+                    break
+                if not chunk:
+                    break
+                shown += chunk
+            assert proc.wait(timeout=120) == 0
+        os.close(controller)
+        text = shown.decode().replace("\r\n", "\n")
+        assert text.startswith('{\n  "method": "GET"'), text[:200]
+        assert json.loads(text)["method"] == "GET"
+    finally:
+        upstream.stop()
