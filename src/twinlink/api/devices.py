@@ -59,11 +59,17 @@ def device_view(d: Device, request: Request | None = None) -> dict[str, Any]:
     return view
 
 
-@router.get("/twins/{slug}/devices", summary="The devices of a twin (viewers)")
+@router.get(
+    "/twins/{slug}/devices",
+    summary="The devices of a twin, and `default_device`: where a command that names no "
+    "device goes now (null: it must name one) (viewers)",
+)
 async def list_devices(
     slug: str, caller: Caller, devices: Devices, request: Request
 ) -> dict[str, Any]:
-    return {"devices": [device_view(d, request) for d in await devices.list(caller, slug)]}
+    found = await devices.list(caller, slug)
+    chosen = await request.app.state.services.commands.default_device(caller, slug)
+    return {"devices": [device_view(d, request) for d in found], "default_device": chosen}
 
 
 @router.post(

@@ -13,6 +13,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.responses import Response
 
 from twinlink.auth.service import AuthError, LoginError
+from twinlink.commands.targets import DeviceChoiceError
 from twinlink.domain.errors import (
     ConflictError,
     DocumentError,
@@ -90,6 +91,12 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(InvalidInputError)
     async def _invalid_input(_: Request, exc: InvalidInputError) -> Response:
         return problem(413 if isinstance(exc, PayloadTooLargeError) else 422, str(exc))
+
+    @app.exception_handler(DeviceChoiceError)
+    async def _device_choice(_: Request, exc: DeviceChoiceError) -> Response:
+        # Why, and the devices to choose from, so a client can say it in its own terms (the
+        # CLI names its --device option).
+        return problem(422, str(exc), reason=exc.reason, devices=exc.devices)
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(_: Request, exc: RequestValidationError) -> Response:

@@ -8,7 +8,8 @@ again when the server starts.
 
 A device is online while it has a WebSocket session or an HTTP long poll is waiting. Offline,
 a command without `queue` fails at once ("device offline"); with `queue` it is sent when the
-device connects (or polls), until it expires.
+device connects (or polls), until it expires. Which device a command goes to when it names
+none: `targets.py`.
 """
 
 from __future__ import annotations
@@ -32,14 +33,9 @@ from twinlink.commands.db import (
 from twinlink.commands.interfaces import InterfaceRules
 from twinlink.commands.model import OFFLINE, STATES, CommandRecord, new_command_id
 from twinlink.commands.rules import check_command
-from twinlink.domain.errors import (
-    ConflictError,
-    ForbiddenError,
-    InvalidInputError,
-    NotFoundError,
-)
+from twinlink.commands.targets import DeviceTargets
+from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
-from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
 from twinlink.store.records import Device, TwinRecord
 from twinlink.store.sqlite.history import SqliteHistory
@@ -71,10 +67,7 @@ class CommandService:
         self.reader = ReadConnection(history.path)
         self.log = WriteBehind(history.write)
         self.rules = InterfaceRules(registry)
-        # The devices of each twin by name, until a device (or twin) is added or removed.
-        self._devices: GenerationCache[int, dict[str, Device]] = GenerationCache(
-            lambda: registry.generation
-        )
+        self.targets = DeviceTargets(registry, self._online)
         self._live: dict[str, _Live] = {}
         self._by_device: defaultdict[int, dict[str, _Live]] = defaultdict(dict)
         self._polls: defaultdict[int, set[asyncio.Future[None]]] = defaultdict(set)
@@ -126,7 +119,7 @@ class CommandService:
         timeout = self.default_timeout_s if timeout_s is None else timeout_s
         if not 0 < timeout <= MAX_TIMEOUT_S:
             raise InvalidInputError(f"`timeout_s` must be above 0 and at most {MAX_TIMEOUT_S:.0f}")
-        target = await self._target(twin, device)
+        target = await self.targets.target(twin, device)
         checked = check_command(await self.rules.get(twin.id), name, args)
         now = time.time_ns()
         record = CommandRecord(
@@ -179,29 +172,10 @@ class CommandService:
             raise ForbiddenError(f"the commands of {slug!r} need the viewer role")
         return twin
 
-    async def _target(self, twin: TwinRecord, name: str | None) -> Device:
-        devices = await self._devices_of(twin.id)
-        if name is not None:
-            found = devices.get(name)
-            if found is None:
-                raise NotFoundError(f"twin {twin.slug!r} has no device {name!r}")
-            return found
-        if not devices:
-            raise ConflictError(f"twin {twin.slug!r} has no devices; add one first")
-        if len(devices) > 1:
-            names = ", ".join(devices)
-            raise InvalidInputError(
-                f"twin {twin.slug!r} has several devices ({names}); name one with `device`"
-            )
-        return next(iter(devices.values()))
-
-    async def _devices_of(self, twin_id: int) -> dict[str, Device]:
-        devices = self._devices.get(twin_id)
-        if devices is None:
-            read_at = self._devices.generation()
-            devices = {d.name: d for d in await self.registry.store.list_devices(twin_id)}
-            self._devices.keep(twin_id, devices, read_at)
-        return devices
+    async def default_device(self, principal: Principal, slug: str) -> str | None:
+        """The device a command to the twin goes to now when it names none (viewers); None
+        when the sender has to name one."""
+        return await self.targets.chosen(await self._twin_for_reading(principal, slug))
 
     async def _find(self, command_id: str) -> CommandRecord | None:
         live = self._live.get(command_id)
@@ -301,6 +275,9 @@ class CommandService:
         self._live[record.id] = live
         self._by_device[record.device_id][record.id] = live
         return live
+
+    def _online(self, device_id: int) -> bool:
+        return self.hub.session(device_id) is not None or bool(self._polls.get(device_id))
 
     def _push(self, record: CommandRecord) -> bool:
         """Send to the device now; False when it is offline."""

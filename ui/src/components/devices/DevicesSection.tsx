@@ -40,23 +40,25 @@ function DeviceRow({ device: d, canEdit, busy, onRotate, onDelete }: RowProps) {
 
 function DeviceTable({ devices, ...rest }: { devices: Device[] } & Omit<RowProps, "device">) {
   return (
-    <table className="table">
-      <thead>
-        <tr>
-          <th>Device</th>
-          <th>Description</th>
-          <th>Connected</th>
-          <th>Last seen</th>
-          <th>Token</th>
-          {rest.canEdit && <th aria-label="Actions" />}
-        </tr>
-      </thead>
-      <tbody>
-        {devices.map((d) => (
-          <DeviceRow key={d.name} device={d} {...rest} />
-        ))}
-      </tbody>
-    </table>
+    <div className="table-scroll">
+      <table className="table">
+        <thead>
+          <tr>
+            <th>Device</th>
+            <th>Description</th>
+            <th>Connected</th>
+            <th>Last seen</th>
+            <th>Token</th>
+            {rest.canEdit && <th aria-label="Actions" />}
+          </tr>
+        </thead>
+        <tbody>
+          {devices.map((d) => (
+            <DeviceRow key={d.name} device={d} {...rest} />
+          ))}
+        </tbody>
+      </table>
+    </div>
   );
 }
 

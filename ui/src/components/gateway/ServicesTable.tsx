@@ -21,44 +21,46 @@ function latency(stats: ServiceStats | undefined): string {
 /** One twin's gateway services: health, where they are, credentials, answers and latency. */
 export function ServicesTable({ services }: { services: Service[] }) {
   return (
-    <table className="table">
-      <thead>
-        <tr>
-          <th>Service</th>
-          <th>Health</th>
-          <th>Base URL</th>
-          <th>Credentials</th>
-          <th className="num">Requests</th>
-          <th>Answers</th>
-          <th>Service time</th>
-        </tr>
-      </thead>
-      <tbody>
-        {services.map((s) => (
-          <tr key={s.name}>
-            <td className="mono">{s.name}</td>
-            <td>
-              <HealthBadge service={s} />
-              {s.health?.ms !== undefined && <span className="muted"> {s.health.ms} ms</span>}
-            </td>
-            <td className="mono">{s.base_url}</td>
-            <td>
-              {s.auth.method}
-              {s.credential_error && <span className="badge badge-bad" title={s.credential_error}>error</span>}
-              {s.blocked && <span className="badge badge-bad" title={s.blocked}>blocked</span>}
-            </td>
-            <td className="num">{s.requests}</td>
-            <td>
-              {statusClasses(s.stats).map(([cls, n]) => (
-                <span key={cls} className={`badge ${cls === "2xx" || cls === "3xx" ? "badge-ok" : "badge-bad"}`}>
-                  {cls} {n}
-                </span>
-              ))}
-            </td>
-            <td>{latency(s.stats)}</td>
+    <div className="table-scroll">
+      <table className="table">
+        <thead>
+          <tr>
+            <th>Service</th>
+            <th>Health</th>
+            <th>Base URL</th>
+            <th>Credentials</th>
+            <th className="num">Requests</th>
+            <th>Answers</th>
+            <th>Service time</th>
           </tr>
-        ))}
-      </tbody>
-    </table>
+        </thead>
+        <tbody>
+          {services.map((s) => (
+            <tr key={s.name}>
+              <td className="mono">{s.name}</td>
+              <td>
+                <HealthBadge service={s} />
+                {s.health?.ms !== undefined && <span className="muted"> {s.health.ms} ms</span>}
+              </td>
+              <td className="mono">{s.base_url}</td>
+              <td>
+                {s.auth.method}
+                {s.credential_error && <span className="badge badge-bad" title={s.credential_error}>error</span>}
+                {s.blocked && <span className="badge badge-bad" title={s.blocked}>blocked</span>}
+              </td>
+              <td className="num">{s.requests}</td>
+              <td>
+                {statusClasses(s.stats).map(([cls, n]) => (
+                  <span key={cls} className={`badge ${cls === "2xx" || cls === "3xx" ? "badge-ok" : "badge-bad"}`}>
+                    {cls} {n}
+                  </span>
+                ))}
+              </td>
+              <td>{latency(s.stats)}</td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </div>
   );
 }

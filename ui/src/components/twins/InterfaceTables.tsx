@@ -57,7 +57,7 @@ export function InterfaceTables({ document }: { document: TwinDocument }) {
   const { signals, properties, commands, defaultDevice } = readInterface(document);
   if (signals.length + properties.length + commands.length === 0 && !defaultDevice) return null;
   return (
-    <div className="interface">
+    <div className="interface table-scroll">
       {signals.length > 0 && <ValueTable caption="Signals" decls={signals} />}
       {properties.length > 0 && (
         <ValueTable caption="Properties" decls={properties} extra={["Writable", (d) => (d.writable ? "yes" : "no")]} />
