@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import stat
+import time
 from pathlib import Path
 
 import pytest
@@ -11,6 +12,7 @@ from pydantic import ValidationError
 from twinlink.gateway.credentials import (
     RefreshError,
     TokenCredentials,
+    _seconds,
     credentials_for,
     json_path,
     scrub,
@@ -141,3 +143,22 @@ async def test_a_token_in_its_renewal_margin_is_used_while_the_login_is_down() -
     creds._expires_at = 0.0  # expired: nothing usable is left
     with pytest.raises(RefreshError):
         await creds.ready()
+
+
+@pytest.mark.parametrize(
+    ("expires_in", "life_s"),
+    [(100, 100.0), ("60", 60.0), (None, 3600.0), (float("inf"), 3600.0),
+     (float("nan"), 3600.0), (10**400, 3600.0), ("soon", 3600.0), (-5, 3600.0)],
+)  # fmt: skip
+async def test_a_login_endpoints_expires_in_that_is_no_finite_number_means_an_hour(
+    expires_in: object, life_s: float
+) -> None:
+    # A hostile or broken endpoint's 400-digit expires_in overflowed float(): a failed call.
+    class Endpoint(TokenCredentials):
+        async def fetch(self) -> tuple[str, float | None]:
+            return "t", _seconds(expires_in)
+
+    creds = Endpoint("custom_login", "Authorization", "Token {token}")
+    before = time.monotonic()
+    await creds.ready()
+    assert before + life_s <= creds._expires_at <= time.monotonic() + life_s

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import asyncio
 import base64
+import math
 import time
 from typing import Any
 from urllib.parse import quote, unquote_plus
@@ -297,10 +298,13 @@ def _json(answer: httpx.Response) -> dict[str, Any]:
 
 
 def _seconds(value: Any) -> float | None:
+    """A login endpoint's `expires_in`, or None (renewed after the default hour) when it is
+    not a finite number: `1e400` reads as infinity, a 400-digit integer overflows a float."""
     try:
-        return float(value) if value is not None else None
-    except (TypeError, ValueError):
+        seconds = float(value) if value is not None else None
+    except (TypeError, ValueError, OverflowError):
         return None
+    return seconds if seconds is not None and math.isfinite(seconds) else None
 
 
 def _leaves(value: Any) -> list[Any]:
