@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, Request
@@ -54,8 +55,13 @@ def device_view(d: Device, request: Request | None = None) -> dict[str, Any]:
         "created": human_time(d.created_ns),
         "last_seen": human_time_or_none(d.last_seen_ns),
     }
-    if request is not None:  # whether it has a WebSocket session to this server now
-        view["connected"] = request.app.state.services.device_hub.session(d.id) is not None
+    if request is not None:
+        # Whether it (or a connector speaking for it) has a session to this server now: the
+        # WebSocket, MQTT, a UDP or OPC UA connector. Connected, it is being seen now.
+        connected = request.app.state.services.device_hub.session(d.id) is not None
+        view["connected"] = connected
+        if connected:
+            view["last_seen"] = human_time(time.time_ns())
     return view
 
 

@@ -14,8 +14,15 @@ import time
 from typing import Any
 
 from twinlink.auth.devices import DeviceService
+from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal
-from twinlink.connectors.base import Connector, ConnectorError, ConnectorStatus, LinkHost
+from twinlink.connectors.base import (
+    Connector,
+    ConnectorError,
+    ConnectorStatus,
+    ConnectorTransport,
+    LinkHost,
+)
 from twinlink.connectors.kinds import (
     CONNECTOR_NAME,
     checked_config,
@@ -26,6 +33,7 @@ from twinlink.connectors.kinds import (
 )
 from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.gateway.vault import Vault, VaultError
+from twinlink.ingest.link import DeviceLink
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.registry.service import RegistryService
@@ -35,6 +43,27 @@ from twinlink.store.records import ConnectorRecord, Device
 log = logging.getLogger("twinlink.connectors")
 
 _CREATE_FIELDS = {"name", "kind", "device", "enabled", "config"}
+
+
+class _SeenHost(LinkHost):
+    """A connector's host that also notes when its device's session opens and ends. A device
+    is seen when it authenticates; a connector speaks for its device without, which would
+    leave the device "never seen" while connected and after."""
+
+    def __init__(
+        self, hub: DeviceHub, ingest: IngestService, device: Device, seen: LastUsed
+    ) -> None:
+        super().__init__(hub, ingest, device)
+        self.seen = seen
+
+    async def connect(self, transport: ConnectorTransport) -> DeviceLink:
+        link = await super().connect(transport)
+        self.seen.device_seen(self.device.id, time.time_ns())
+        return link
+
+    async def disconnect(self, link: DeviceLink) -> None:
+        await super().disconnect(link)
+        self.seen.device_seen(self.device.id, time.time_ns())
 
 
 class ConnectorService:
@@ -197,7 +226,8 @@ class ConnectorService:
             if device is None:
                 raise InvalidInputError(f"its device {record.device!r} no longer exists")
             cls = connector_class(record.kind)
-            connector = cls(record.name, config, LinkHost(self.hub, self.ingest, device))
+            host = _SeenHost(self.hub, self.ingest, device, self.devices.last_used)
+            connector = cls(record.name, config, host)
             await connector.start()
         except (ConnectorError, InvalidInputError, ImportError, OSError) as err:
             status = ConnectorStatus()
