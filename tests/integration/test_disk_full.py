@@ -51,18 +51,13 @@ class Ballast:
         self.path = disk / "ballast"
 
     def fill(self) -> None:
-        chunk = b"\0" * (1 << 16)
-        with self.path.open("ab") as f:
-            try:
-                while True:
-                    f.write(chunk)
-                    f.flush()
-            except OSError:
-                pass
-        # What a 64 KiB chunk left over, byte by byte would take long: 1 KiB at a time.
-        with contextlib.suppress(OSError), self.path.open("ab", buffering=0) as f:
-            while True:
-                f.write(b"\0" * 1024)
+        # Unbuffered, so that nothing is left to flush (and fail) on close; ever smaller
+        # writes take the last bytes too.
+        with self.path.open("ab", buffering=0) as f:
+            for size in (1 << 20, 1 << 12, 1):
+                with contextlib.suppress(OSError):
+                    while True:
+                        f.write(b"\0" * size)
 
     def free(self) -> None:
         self.path.unlink(missing_ok=True)
