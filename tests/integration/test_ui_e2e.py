@@ -1,7 +1,8 @@
 """The web app end to end: Debian's chromium, driven by playwright-core (ui/e2e/smoke.mjs),
 against a real server loaded as `make demo` loads it: the example twins, the simulated Tingen
 rig streaming through `twinlink simulate tingen`, and the Tingen FMU uploaded (the browser
-creates its processor). Screenshots go to ui/e2e/screenshots/."""
+creates its processor), and a twin whose one signal sent one sample a while ago (a signal sent
+on change: the charts must hold it to now). Screenshots go to ui/e2e/screenshots/."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 
 import pytest
@@ -21,7 +23,8 @@ from tests.integration._util import apply_examples
 pytestmark = pytest.mark.integration
 UI = ROOT / "ui"
 SHOTS = UI / "e2e" / "screenshots"
-STEPS = 9  # the steps smoke.mjs prints "ok <name>" for
+STEPS = 11  # the steps smoke.mjs prints "ok <name>" for
+HELD_AGO_S = 120  # how long before the test the held signal sent its only sample
 
 
 @pytest.fixture
@@ -57,9 +60,17 @@ def test_the_web_app_in_a_real_browser(server: Server, rig: None) -> None:
     assert node, "Node.js 20+ is needed (make test installs it)"
     assert (UI / "node_modules" / "playwright-core").is_dir(), "run make test (npm install)"
     assert os.path.exists("/usr/bin/chromium"), "make test installs Debian's chromium"
-    slug = new_twin(server)
+    slug = new_twin(server, interface={"signals": [{"name": "level", "unit": "m"}]})
     with server.admin as admin:
         add_service(admin, slug, "self", f"{server.url}/")  # the platform's own /healthz
+        r = admin.post(f"/api/v1/twins/{slug}/devices", json={"name": "tank"})
+        assert r.status_code == 201, r.text
+        device_token = r.json()["token"]
+    # One sample, long before the live window: nothing more comes while the level holds.
+    with server.client(device_token) as device:
+        sample = {"time": time.time_ns() - HELD_AGO_S * 10**9, "values": {"level": 2.5}}
+        r = device.post("/api/v1/device/samples", json={"seq": 1, "samples": [sample]})
+        assert r.status_code == 200, r.text
     SHOTS.mkdir(parents=True, exist_ok=True)
     env = {
         **os.environ,

@@ -1,8 +1,9 @@
 // End-to-end check of the web app in Debian's chromium, driven by playwright-core.
 // Run by tests/integration/test_ui_e2e.py against a real server:
 //   E2E_URL, E2E_USER, E2E_PASSWORD, E2E_TOKEN (an admin API token), E2E_TWIN (a twin with a
-//   service `self`), E2E_SHOTS (folder). The server holds the demo's data: the example twins,
-//   Tingen streaming from the simulated rig, and Tingen.fmu uploaded.
+//   service `self`, and a signal `level` whose only sample is two minutes old), E2E_SHOTS
+//   (folder). The server holds the demo's data: the example twins, Tingen streaming from the
+//   simulated rig, and Tingen.fmu uploaded.
 import { chromium } from 'playwright-core';
 
 const env = (name) => {
@@ -19,6 +20,11 @@ const browser = await chromium.launch({
 const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
 const pageErrors = [];
 page.on('pageerror', (e) => pageErrors.push(String(e)));
+// Every page names the site's icon; none may be missing (a 404 in the console).
+const icons = [];
+page.on('response', (r) => {
+  if (/\/favicon\.(svg|ico)$/.test(new URL(r.url()).pathname)) icons.push(`${r.status()} ${r.url()}`);
+});
 page.setDefaultTimeout(15000);
 // How many samples a stream holds, read from the API (not the page) to know time has passed.
 const api = async (path) => {
@@ -36,6 +42,41 @@ const waitStored = async (twin, stream, more) => {
   for (;;) {
     if ((await storedCount(twin, stream)) >= target) return;
     if (Date.now() > deadline) throw new Error(`${twin}/${stream} did not grow by ${more} samples`);
+    await new Promise((resolve) => setTimeout(resolve, 100)); // polling interval, not a wait for an outcome
+  }
+};
+// Whether the chart's first series (its first colour, #1f5fbf) is drawn in its plot's last
+// tenth, the part nearest now, and in its first tenth: read from the canvas's pixels.
+const drawnAt = () =>
+  page.evaluate(() => {
+    const canvas = document.querySelector('.time-chart canvas');
+    const over = document.querySelector('.time-chart .u-over');
+    if (!canvas || !over) return null;
+    const ratio = canvas.width / canvas.getBoundingClientRect().width;
+    const box = over.getBoundingClientRect();
+    const origin = canvas.getBoundingClientRect();
+    const left = Math.round((box.left - origin.left) * ratio);
+    const width = Math.round(box.width * ratio);
+    const height = Math.round(box.height * ratio);
+    const top = Math.round((box.top - origin.top) * ratio);
+    const { data } = canvas.getContext('2d').getImageData(left, top, width, height);
+    const inColumns = (from, to) => {
+      for (let y = 0; y < height; y++) {
+        for (let x = from; x < to; x++) {
+          const i = 4 * (y * width + x);
+          if (Math.abs(data[i] - 31) < 40 && Math.abs(data[i + 1] - 95) < 40 && Math.abs(data[i + 2] - 191) < 40 && data[i + 3] > 100) return true;
+        }
+      }
+      return false;
+    };
+    return { start: inColumns(0, Math.round(width / 10)), end: inColumns(Math.round((width * 9) / 10), width) };
+  });
+const waitDrawn = async (parts) => {
+  const deadline = Date.now() + 15000;
+  for (;;) {
+    const drawn = await drawnAt();
+    if (drawn && parts.every((part) => drawn[part])) return;
+    if (Date.now() > deadline) throw new Error(`the held value is not drawn across the chart: ${JSON.stringify(drawn)}`);
     await new Promise((resolve) => setTimeout(resolve, 100)); // polling interval, not a wait for an outcome
   }
 };
@@ -144,6 +185,21 @@ try {
     const line = at + 2; // 1-based line of the inserted entry
     await page.locator(`[data-error-line="${line}"]`).first().waitFor();
     await page.getByRole('list', { name: 'Problems' }).getByText(`Line ${line}`).first().waitFor();
+  });
+  // A signal sent on change holds its value: its only sample, two minutes old, is drawn over
+  // the whole 30 s live window (from before it, to now), and in the last 15 minutes of history
+  // from that sample to now (dashed: held with no sample).
+  await step('10-held-live', async () => {
+    await page.goto(`${url}/app/twins/${env('E2E_TWIN')}/live?s=telemetry:level&w=30`);
+    await page.getByRole('figure', { name: /telemetry\/level/ }).waitFor();
+    await waitDrawn(['start', 'end']);
+  });
+  await step('11-held-history', async () => {
+    await page.goto(`${url}/app/twins/${env('E2E_TWIN')}/history`);
+    await page.getByLabel('Range').selectOption('15m');
+    await page.getByRole('figure', { name: /History of level/ }).waitFor();
+    await waitDrawn(['end']);
+    if (!icons.length || icons.some((line) => !line.startsWith('200 '))) throw new Error(`the icon: ${icons.join('; ') || 'never asked for'}`);
   });
   if (pageErrors.length) throw new Error(`errors in the page: ${pageErrors.join('; ')}`);
 } finally {
