@@ -5,6 +5,7 @@ issue 13's F1 (acknowledged samples under another signal's name after a failed c
 from __future__ import annotations
 
 import contextlib
+import json
 import signal
 import subprocess
 import time
@@ -13,6 +14,7 @@ from pathlib import Path
 
 import pytest
 from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import connect
 
 from tests.conftest import Server, start_server, stop_server
 from tests.integration._live import (
@@ -22,6 +24,7 @@ from tests.integration._live import (
     receive,
     send,
     stored_values,
+    ws_url,
 )
 from tests.integration._util import assert_problem, parse_time, poll_until
 
@@ -79,6 +82,13 @@ def server(disk: Path) -> Iterator[Server]:
         stop_server(srv)
 
 
+def new_token(server: Server) -> str:
+    with server.admin as admin:
+        r = admin.post("/api/v1/tokens", json={"name": "disk-full"})
+    assert r.status_code == 201, r.text
+    return str(r.json()["token"])
+
+
 def metric(server: Server, name: str) -> float:
     with server.admin as admin:
         text = admin.get("/metrics").text
@@ -96,6 +106,7 @@ def last_seen(server: Server, slug: str) -> float:
 def test_a_full_disk_refuses_batches_without_mixing_up_signals(server: Server, disk: Path) -> None:
     ballast = Ballast(disk)
     slug, (token,) = device_twin(server)
+    fresh = [new_token(server) for _ in range(2)]  # never used: their first use is later
     a_values = [float(i) for i in range(20_000)]
     seq2 = batch(2, [{"time": 10**18 + i, "values": {"A": v}} for i, v in enumerate(a_values)])
     with device_socket(server, token) as ws:
@@ -117,10 +128,16 @@ def test_a_full_disk_refuses_batches_without_mixing_up_signals(server: Server, d
             body = assert_problem(r, 507)
             assert "storage is full" in body["detail"] and r.headers["retry-after"] == "30"
 
-        # Authentication keeps working: requests, and new device connections (which
-        # write "last seen" behind them, in memory until the disk takes it).
-        with server.admin as admin:
-            assert admin.get("/api/v1/twins").status_code == 200
+        # Authentication keeps working, though a token's first use is a "last used" time
+        # to store: requests, live views and new device connections (the times wait in
+        # memory until the disk takes them).
+        with server.client(fresh[0]) as user:
+            assert user.get("/api/v1/twins").status_code == 200
+        bearer = {"Authorization": f"Bearer {fresh[1]}"}
+        with connect(ws_url(server, "/api/v1/live"), additional_headers=bearer) as live:
+            assert json.loads(live.recv(timeout=30))["type"] == "welcome"
+            live.send(json.dumps({"op": "subscribe", "id": "a", "twin": slug}))
+            assert json.loads(live.recv(timeout=30))["type"] == "subscribed"
         with device_socket(server, token) as second:
             assert receive(second, "welcome")["device"] == "dev0"
         # The first connection was replaced (4409) by the second: the rest goes on a third.
