@@ -31,6 +31,24 @@ QUERY_VALUES = [
     "1.5",
     "9" * 5000,
 ]
+# Times and durations that routes take as text (ns, ISO 8601, `-1d`, a bucket, a cursor): the
+# numbers above, and dates and durations past what int64 ns hold.
+TIME_PARAMETERS = {"start", "end", "bucket", "cursor", "since", "until", "at"}
+TIME_VALUES = [
+    *QUERY_VALUES,
+    "9223372036854775807",
+    "-9223372036854775808",
+    "9999-12-31T23:59:59Z",
+    "0001-01-01",
+    "1000-01-01T00:00:00Z",
+    "99999999999999999999d",
+    "-99999999999999999999d",
+    "1e300s",
+    "-1e300s",
+    "nand",
+    "P99999999Y",
+    "9223372036854775807:9223372036854775807",
+]
 # JSON literals for bodies (`NaN` and `Infinity` are not JSON, and Python's reader takes them).
 BIG_INTS = ["9223372036854775808", "-9223372036854775809", str(2**80), "9" * 4000]
 BODY_VALUES = [*BIG_INTS, "1e400", "NaN", "Infinity", "1e10", "1e18", "1e300", "-1", "0", "1.5"]
@@ -77,6 +95,15 @@ def numeric_parameters(doc: dict[str, Any], op: Operation) -> list[tuple[str, st
         if found is not None:
             out.append((param["in"], param["name"], found))
     return out
+
+
+def time_parameters(op: Operation) -> list[str]:
+    """Names of the query parameters that take a time or a duration as text."""
+    return [
+        p["name"]
+        for p in op.spec.get("parameters", [])
+        if p["in"] == "query" and p["name"] in TIME_PARAMETERS
+    ]
 
 
 def body_schema(doc: dict[str, Any], op: Operation) -> dict[str, Any] | None:

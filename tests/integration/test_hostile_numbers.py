@@ -8,6 +8,7 @@ every transport, never stored rounded to a float."""
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -22,6 +23,7 @@ from tests.integration._hostile import (
     BODY_VALUES,
     HOLE,
     QUERY_VALUES,
+    TIME_VALUES,
     Operation,
     body_schema,
     fill_path,
@@ -31,6 +33,7 @@ from tests.integration._hostile import (
     numeric_parameters,
     operations,
     schema_numbers,
+    time_parameters,
     with_value,
 )
 from tests.integration._util import PROBLEM, apply, twin_doc, unique
@@ -142,6 +145,11 @@ def target(server: Server) -> Target:
         ]  # fmt: skip
     for r in made:
         assert r.status_code == 201, r.text
+    now = time.time_ns()
+    with server.client(made[0].json()["token"]) as device:
+        rows = [{"time": now - i * 10**9, "values": {"x": i, "y": 0.5}} for i in range(50)]
+        r = device.post("/api/v1/device/samples", json={"seq": 1, "samples": rows})
+        assert r.status_code == 200 and r.json()["accepted"] == 50, r.text
     names = {
         "slug": slug, "device": "dev", "stream": "telemetry", "username": "admin",
         "command_id": "nothing", "services/name": "svc", "processors/name": "proc",
@@ -175,15 +183,21 @@ class Fuzzer:
         who = "device" if path.startswith("/api/v1/device/") else "admin"
         headers = {"Content-Type": "application/json"} if body is not None else {}
         shown = f"{method} {path} {params or ''}{(body or '')[:120]}"
-        try:
-            r = self.clients[who].request(
-                method, path, params=params, content=body, headers=headers
-            )
-        except httpx.TransportError as err:  # the server dropped the connection
-            self.failures.append(f"{shown} -> {err!r}")
-            self.clients[who].close()
-            self.clients[who] = self.server.client(self.clients[who].headers["authorization"][7:])
-            return
+        for attempt in (1, 2):
+            try:
+                r = self.clients[who].request(
+                    method, path, params=params, content=body, headers=headers
+                )
+                break
+            except httpx.TransportError as err:
+                # The server closes a connection after a 500: the next request on it fails
+                # for that one. Once more on a new connection, to blame the right request.
+                token = self.clients[who].headers["authorization"].removeprefix("Bearer ")
+                self.clients[who].close()
+                self.clients[who] = self.server.client(token)
+                if attempt == 2:
+                    self.failures.append(f"{shown} -> {err!r}")
+                    return
         if r.status_code >= 500 or (
             r.status_code >= 400 and not r.headers["content-type"].startswith(PROBLEM)
         ):
@@ -247,6 +261,22 @@ def test_extreme_path_and_query_numbers_are_refused_clearly(
                     fuzzer.send(op.method, path.replace(f"{{{name}}}", value))
                 else:
                     fuzzer.send(op.method, path, params={name: value})
+    assert fuzzer.failures == [], "\n".join(fuzzer.failures)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="history/params.py parse_time: int() of a start or end of over 4 300 digits raises "
+    "ValueError, a 500 (the history routes are another engineer's; remove this mark with it)",
+)
+def test_extreme_times_and_durations_are_refused_clearly(
+    openapi: dict[str, Any], target: Target, fuzzer: Fuzzer
+) -> None:
+    for op in operations(openapi):
+        path = _concrete(op, target)
+        for name in time_parameters(op):
+            for value in TIME_VALUES:
+                fuzzer.send(op.method, path, params={name: value})
     assert fuzzer.failures == [], "\n".join(fuzzer.failures)
 
 
