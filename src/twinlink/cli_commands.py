@@ -10,6 +10,7 @@ import orjson
 
 from twinlink.cli_common import HelpGroup, client_for, emit
 from twinlink.client import ClientError
+from twinlink.domain.jsontext import JsonTextError, loads
 
 _HTTP_MARGIN_S = 30.0  # the HTTP request outlives the command's own timeout by this much
 
@@ -23,8 +24,8 @@ def parse_assignments(pairs: tuple[str, ...]) -> dict[str, Any]:
         if not sep or not key:
             raise click.BadParameter(f"{pair!r} is not key=value", param_hint="ARGS")
         try:
-            out[key] = orjson.loads(text)
-        except orjson.JSONDecodeError:
+            out[key] = loads(text)  # integers exact: the server refuses, not rounds, 2**80
+        except JsonTextError:
             out[key] = text
     return out
 

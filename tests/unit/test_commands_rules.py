@@ -151,3 +151,5 @@ def test_cli_assignments_are_json_when_they_parse() -> None:
     }  # fmt: skip
     with pytest.raises(Exception, match="not key=value"):
         parse_assignments(("novalue",))
+    # Exact, for the server to refuse with its message (orjson sent 1.2089258196146292e+24).
+    assert parse_assignments((f"v={2**80}", "w=NaN")) == {"v": 2**80, "w": "NaN"}
