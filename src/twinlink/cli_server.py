@@ -98,8 +98,11 @@ def demo(
 
     secrets_file = settings.data_dir / "admin-credentials.txt"
 
+    printed: list[bool] = []  # the bootstrap text, which ends with a blank line
+
     def bootstrap(created: Bootstrap) -> None:
         print_bootstrap(created)
+        printed.append(True)
         # The demo keeps its generated secrets so a second `make demo` can still sign in.
         settings.data_dir.mkdir(parents=True, exist_ok=True)
         fd = os.open(secrets_file, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
@@ -131,7 +134,8 @@ def demo(
                 f"Devices may publish over MQTT to {settings.mqtt_host}:{services.mqtt.port}, "
                 f"topics twinlink/{{twin}}/{{device}}/telemetry (docs/mqtt.md)."
             )
-        click.echo(_welcome(settings.base_url, loaded, examples, notes, secrets_file), err=True)
+        welcome = _welcome(settings.base_url, loaded, examples, notes, secrets_file)
+        click.echo(welcome if printed else "\n" + welcome, err=True)
 
         async def stop_all() -> None:
             for stop in (stop_simulator, stop_crane):
@@ -154,4 +158,4 @@ def _welcome(
         f"Sign in as admin; the password and token are in {secrets_file}.",
         f"CLI: twinlink --url {url} login -u admin",
     ]
-    return "\n" + "".join(f"  {line}\n" for line in lines)
+    return "".join(f"  {line}\n" for line in lines)
