@@ -162,3 +162,14 @@ async def test_a_login_endpoints_expires_in_that_is_no_finite_number_means_an_ho
     before = time.monotonic()
     await creds.ready()
     assert before + life_s <= creds._expires_at <= time.monotonic() + life_s
+
+
+@pytest.mark.parametrize(
+    "limits",
+    [{"max_body_mb": 1e300}, {"max_body_mb": 0}, {"timeout_s": 1e10}, {"connect_timeout_s": -1}],
+)
+def test_limits_have_a_range(limits: dict[str, float]) -> None:
+    with pytest.raises(ValidationError):
+        ServiceSettings.model_validate({"base_url": "http://a.example/", "limits": limits})
+    top = {"max_body_mb": 1_048_576, "timeout_s": 3600, "connect_timeout_s": 120}
+    ServiceSettings.model_validate({"base_url": "http://a.example/", "limits": top})

@@ -154,7 +154,9 @@ class Limits(BaseModel):
     timeout_s: float = Field(
         60.0, gt=0, le=3600, description="Longest wait for the service's answer to start."
     )
-    max_body_mb: float = Field(100.0, gt=0, description="Largest request body forwarded.")
+    max_body_mb: float = Field(
+        100.0, gt=0, le=1_048_576, description="Largest request body forwarded (at most 1 TiB)."
+    )
 
 
 class Tls(BaseModel):
