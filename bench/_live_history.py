@@ -221,6 +221,7 @@ def _store_rows(path: Path, tid: int, wins: list[tuple[int, int]]) -> list[Row]:
 def _time_store(
     path: Path, tid: int, method: str, wins: list[tuple[int, int]]
 ) -> tuple[float, float, int]:
+    from twinlink.store.sqlite.history.budget import ReadBudget
     from twinlink.store.sqlite.history.downsample import downsample
     from twinlink.store.sqlite.history.queries import select_series
     from twinlink.store.sqlite.history.reader import open_read_connection
@@ -228,7 +229,8 @@ def _time_store(
     conn = open_read_connection(path)
 
     def run(w: tuple[int, int]) -> list[Any]:
-        return [downsample(conn, s, w[0], w[1], POINTS, method) for s in series]
+        budget = ReadBudget(3600.0, 2**62)  # no limit: the store alone, as a reference
+        return list(downsample(conn, series, w[0], w[1], POINTS, method, budget).values())
 
     try:
         series = select_series(conn, tid, STREAM, [SIGNAL])

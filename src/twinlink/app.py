@@ -60,7 +60,7 @@ from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite.faults import StorageFaults
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
 
 log = logging.getLogger("twinlink.app")
 
@@ -98,6 +98,11 @@ def build_services(settings: Settings) -> Services:
         settings.history_sync,
         max_signals_per_stream=settings.max_signals_per_stream,
         faults=faults,
+        limits=ReadLimits(
+            timeout_s=settings.history_query_timeout_s,
+            export_timeout_s=settings.history_export_timeout_s,
+            max_values=settings.history_query_max_values,
+        ),
     )
     hub = DeviceHub()
     maintenance = HistoryMaintenance(history, settings.history_retention_days)

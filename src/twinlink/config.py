@@ -86,6 +86,24 @@ class Settings(BaseSettings):
         description="Delete history older than this many days (checked every 10 minutes). "
         "0 keeps everything.",
     )
+    history_query_timeout_s: float = Field(
+        30,
+        gt=0,
+        description="Longest a history query (samples, aggregate, downsample, streams, latest) "
+        "may run, in seconds; one that takes longer answers 503 saying what to narrow.",
+    )
+    history_export_timeout_s: float = Field(
+        3600,
+        gt=0,
+        description="Longest a history export may stream, in seconds; one that takes longer "
+        "is cut (the connection closes before the end of the body).",
+    )
+    history_query_max_values: int = Field(
+        2_000_000,
+        gt=0,
+        description="Most values one history answer may hold: a page of samples stops there "
+        "(its next_cursor goes on), an aggregate or downsample over it answers 422.",
+    )
     max_signals_per_stream: int = Field(
         1000,
         ge=1,

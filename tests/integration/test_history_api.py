@@ -4,17 +4,22 @@ retention and the deletion of a twin's history."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
+import json
 import os
+import signal
 import sqlite3
 import subprocess
 import sys
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import httpx
 import orjson
 import pytest
 
@@ -120,7 +125,13 @@ def test_viewers_read_others_do_not(server: Server, world: World) -> None:
 
 def test_streams_and_latest(server: Server, world: World) -> None:
     [stream] = ok(server, world.viewer, world, "")["streams"]
-    assert (stream["name"], stream["count"]) == ("telemetry", 36_000 * 2 + 360)
+    assert (stream["name"], stream["samples"]) == ("telemetry", 36_000)
+    assert stream["values"] == stream["count"] == 36_000 * 2 + 360
+    assert {s["name"]: s["values"] for s in stream["signals"]} == {
+        "mode": 360,
+        "n": 36_000,
+        "x": 36_000,
+    }
     kinds = {s["name"]: (s["kind"], s["count"]) for s in stream["signals"]}
     assert kinds == {"mode": ("string", 360), "n": ("integer", 36_000), "x": ("number", 36_000)}
     assert (stream["first"], stream["last"]) == (T0, T0 + HOUR - S // 10)
@@ -159,7 +170,7 @@ def test_aggregate_over_minutes(server: Server, world: World) -> None:
         world,
         "/telemetry/aggregate",
         bucket="1m",
-        fn="count,min,max,avg,first,last",
+        fn="count,min,max,avg,first,last,sum",
         signals="x,n",
     )
     assert answer["bucket"] == "1m" and answer["skipped"] == []
@@ -167,6 +178,8 @@ def test_aggregate_over_minutes(server: Server, world: World) -> None:
     assert len(rows) in (60, 61)  # the hour need not start on a whole minute
     total = sum(r["values"]["n"]["count"] for r in rows)
     assert total == 36_000
+    assert sum(r["values"]["n"]["sum"] for r in rows) == sum(range(36_000))  # integers, exact
+    assert {type(r["values"]["n"][fn]) for r in rows for fn in ("min", "first", "last")} == {int}
     assert all(r["time"] % (60 * S) == 0 for r in rows)
     assert max(r["values"]["x"]["max"] for r in rows) == 9.9
     everything = ok(server, world.viewer, world, "/telemetry/aggregate", bucket="1d")
@@ -207,6 +220,30 @@ def test_export_streams_the_whole_range(server: Server, world: World) -> None:
     assert lines.headers["content-disposition"].endswith('-telemetry.jsonl"')
     objects = [orjson.loads(line) for line in lines.content.splitlines()]
     assert objects[0] == {"time": T0, "values": {"n": 0}} and len(objects) == 36_000
+
+
+def test_integer_values_past_2_53_come_back_exact(server: Server) -> None:
+    slug = unique("ns-values")
+    with server.admin as admin:
+        apply(admin, twin_doc(f"urn:{slug}", name="Clock", slug=slug))
+    big = 1682921346513461498  # float64 makes it 1.6829213465134615e+18
+    values = [big + i % 7 - 3 for i in range(50)]
+    rows = [{"time": T0 + i * S, "values": {"t": v}} for i, v in enumerate(values)]
+    post_batch(server, add_device(server, slug), 1, rows)
+    with server.admin as admin:
+        base = f"/api/v1/twins/{slug}/streams/telemetry"
+        params = {"bucket": "1h", "fn": "min,max,first,last,sum", "start": T0}
+        agg = json.loads(admin.get(f"{base}/aggregate", params=params).content)  # big ints
+        down = orjson.loads(admin.get(f"{base}/downsample", params={"points": 10}).content)
+    assert agg["rows"][0]["values"]["t"] == {
+        "min": min(values),
+        "max": max(values),
+        "first": values[0],
+        "last": values[-1],
+        "sum": sum(values),  # past 64 bits, and still exact
+    }
+    assert set(down["signals"]["t"]["value"]) <= set(values)
+    assert min(values) in down["signals"]["t"]["value"]
 
 
 # -- bad parameters ----------------------------------------------------------------------
@@ -273,7 +310,8 @@ def test_cli(server: Server, world: World, tmp_path: Path) -> None:
 
     streams = cli("streams", world.slug)
     assert streams.returncode == 0, streams.stderr
-    assert "telemetry" in streams.stdout and "36000" in streams.stdout
+    assert streams.stdout.split("\n")[0].split()[:4] == ["STREAM", "SIGNAL", "KIND", "VALUES"]
+    assert "telemetry: 36000 samples, 72360 values" in streams.stdout
     latest = cli("latest", world.slug)
     assert "35999" in latest.stdout and "run" in latest.stdout
     show = cli("show", world.slug, "telemetry", "-s", "n", "--start", str(T0), "-n", "3")
@@ -347,3 +385,104 @@ def test_retention_deletes_old_history(tmp_path: Path) -> None:
             time.sleep(0.05)
     finally:
         stop_server(srv)
+
+
+# -- budgets and stopping ----------------------------------------------------------------
+
+
+def test_reads_over_their_budget_say_what_to_narrow(tmp_path: Path) -> None:
+    srv = start_server(
+        tmp_path / "data",
+        {
+            "TWINLINK_HISTORY_QUERY_TIMEOUT_S": "1e-9",  # every query is over its time
+            "TWINLINK_HISTORY_EXPORT_TIMEOUT_S": "1e-9",
+            "TWINLINK_HISTORY_QUERY_MAX_VALUES": "5",
+        },
+    )
+    try:
+        slug = unique("budget")
+        with srv.admin as admin:
+            apply(admin, twin_doc(f"urn:{slug}", name="Budget", slug=slug))
+        rows = [{"time": T0 + i * S, "values": {"a": i, "b": i / 2}} for i in range(100)]
+        post_batch(srv, add_device(srv, slug), 1, rows)
+        base = f"/api/v1/twins/{slug}/streams/telemetry"
+        with srv.admin as admin:
+            slow = assert_problem(admin.get(f"{base}/samples"), 503)["detail"]
+            assert "TWINLINK_HISTORY_QUERY_TIMEOUT_S" in slow and "narrow `start`/`end`" in slow
+            big = assert_problem(admin.get(f"{base}/aggregate", params={"bucket": "1s"}), 422)
+            assert "would hold 200 values; at most 5" in big["detail"]
+            got = b""
+            with admin.stream("GET", f"{base}/export", params={"format": "jsonl"}) as r:
+                assert r.status_code == 200
+                with pytest.raises(httpx.RemoteProtocolError):  # the body never ends
+                    for chunk in r.iter_bytes():
+                        got += chunk
+        error = orjson.loads(got.splitlines()[-1])["error"]
+        assert "TWINLINK_HISTORY_EXPORT_TIMEOUT_S" in error
+        cli = subprocess.run(
+            [sys.executable, "-m", "twinlink", "history", "export", slug, "telemetry",
+             "-o", str(tmp_path / "cut.csv")],
+            env={**os.environ, "TWINLINK_URL": srv.url, "TWINLINK_TOKEN": srv.admin_token,
+                 "XDG_CONFIG_HOME": str(tmp_path)},
+            capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL,
+        )  # fmt: skip
+        assert cli.returncode != 0 and not list(tmp_path.glob("cut.csv*")), cli.stderr
+        assert "unhandled error" not in srv.log()
+    finally:
+        stop_server(srv)
+
+
+def seed_blocks(data_dir: Path, tid: int, signals: int, rows: int) -> None:
+    """Store `signals` float signals of `rows` samples (10 ms apart, in blocks of 10 000 as
+    a fast device's batches) straight into history.db of a stopped server."""
+    from twinlink.store.sqlite.history.codec import INSERT_BLOCK, block_row, encode
+
+    conn = sqlite3.connect(data_dir / "history.db")
+    try:
+        with conn:
+            for k in range(signals):
+                sid = conn.execute(
+                    "INSERT INTO series (twin_id, stream, signal, max_span_ns) VALUES (?, ?, ?, ?)",
+                    (tid, "telemetry", f"s{k}", 10_000 * S // 100),
+                ).lastrowid
+                assert sid is not None
+                for b in range(0, rows, 10_000):
+                    times = [T0 + i * S // 100 for i in range(b, b + 10_000)]
+                    values = [float(i % 977) + k for i in range(b, b + 10_000)]
+                    conn.execute(INSERT_BLOCK, block_row(sid, encode(f"s{k}", times, values)))
+    finally:
+        conn.close()
+
+
+def test_a_stop_does_not_wait_for_reads(tmp_path: Path) -> None:
+    srv = start_server(tmp_path / "data")
+    slug = unique("stop")
+    with srv.admin as admin:
+        apply(admin, twin_doc(f"urn:{slug}", name="Stop", slug=slug))
+    tid = twin_id(srv, slug)
+    stop_server(srv)
+    seed_blocks(srv.data_dir, tid, signals=20, rows=200_000)  # 4 million values, ~70 MB of CSV
+    srv = restart_server(srv)
+    base = f"/api/v1/twins/{slug}/streams/telemetry"
+    clients: list[httpx.Client] = []
+    try:
+        for _ in range(3):  # exports that stream, and whose clients then stop reading
+            client = srv.admin
+            clients.append(client)
+            r = client.send(client.build_request("GET", f"{base}/export"), stream=True)
+            assert r.status_code == 200
+            assert next(r.iter_raw()).startswith(b"time,s0,")
+
+        def aggregate() -> None:  # a long aggregate in flight as well
+            with contextlib.suppress(httpx.HTTPError), srv.admin as client:
+                client.get(f"{base}/aggregate", params={"bucket": "100ms", "fn": "avg,max"})
+
+        threading.Thread(target=aggregate, daemon=True).start()
+        srv.process.send_signal(signal.SIGTERM)
+        # A bound on a hang, not a measurement: the stop must not wait for the reads.
+        srv.process.wait(timeout=10)
+    finally:
+        for client in clients:
+            client.close()
+        stop_server(srv)
+    assert "Traceback" not in srv.log(), srv.log()[-3000:]

@@ -3,6 +3,8 @@ LTTB, checked against plain computations; peaks must survive."""
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -10,6 +12,9 @@ from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
 from twinlink.store.sqlite.history import SqliteHistory
 from twinlink.store.sqlite.history.downsample import SUMMARIES_FROM, lttb
+
+# The module (the package's `downsample` is its function).
+downsampling = importlib.import_module("twinlink.store.sqlite.history.downsample")
 
 
 def expected_minmax(
@@ -71,8 +76,20 @@ def test_lttb_matches_the_reference_and_keeps_the_ends() -> None:
     assert lttb(times, values, 2) == [0, 4999]
 
 
+@pytest.fixture(params=["alone", "together"])
+def paths(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> str:
+    """A signal of 4 000 samples is read with signals of few samples (together, from its
+    samples) unless it counts as many: then alone, from summaries or sketches."""
+    if request.param == "alone":
+        monkeypatch.setattr(downsampling, "TOGETHER_FROM", 0)
+        monkeypatch.setattr(downsampling, "TOGETHER_FACTOR", 1)
+    return str(request.param)
+
+
 @pytest.mark.parametrize("block", [1, 2, 50, 400])
-async def test_minmax_is_each_buckets_min_and_max(history: SqliteHistory, block: int) -> None:
+async def test_minmax_is_each_buckets_min_and_max(
+    history: SqliteHistory, block: int, paths: str
+) -> None:
     times, values = series(4000, block)
     await write_column(history, "x", times, values, block)
     start, end = times[100] - 5, times[3800] + 5
@@ -86,7 +103,7 @@ async def test_minmax_is_each_buckets_min_and_max(history: SqliteHistory, block:
 
 @pytest.mark.parametrize(("first", "late"), [(1, 3), (700, 900)])
 async def test_minmax_with_late_overlapping_blocks(
-    history: SqliteHistory, first: int, late: int
+    history: SqliteHistory, first: int, late: int, paths: str
 ) -> None:
     times, values = series(3000, 5)
     await write_column(history, "x", times[::2], values[::2], first)
@@ -98,7 +115,9 @@ async def test_minmax_with_late_overlapping_blocks(
 
 @pytest.mark.parametrize("method", ["minmax", "lttb"])
 @pytest.mark.parametrize("block", [3, 1000])
-async def test_a_single_spike_survives(history: SqliteHistory, method: str, block: int) -> None:
+async def test_a_single_spike_survives(
+    history: SqliteHistory, method: str, block: int, paths: str
+) -> None:
     n = 6_000
     times = [T + i * 10**6 for i in range(n)]
     values = [float(np.sin(i / 300)) for i in range(n)]
@@ -135,3 +154,23 @@ async def test_text_signals_are_flagged_and_bools_are_numbers(history: SqliteHis
     assert got["mode"].text_only and got["mode"].times.size == 0
     assert not got["on"].text_only
     assert sorted(set(got["on"].values.tolist())) == [0.0, 1.0]
+
+
+@pytest.mark.parametrize("offset", [0, 1682921346513461498])  # small, and past 2^53
+async def test_integer_signals_come_back_as_their_exact_values(
+    history: SqliteHistory, offset: int, paths: str
+) -> None:
+    rng = np.random.default_rng(offset % 1000)
+    times = (T + np.cumsum(rng.integers(1, 3, 3000)) * 10**7).tolist()
+    # neighbours that one float64 cannot tell apart when past 2^53
+    values = [offset + int(v) for v in rng.integers(-40, 40, 3000)]
+    await write_column(history, "n", times, values, 100)
+    start, end = times[10], times[2900]
+    got = await history.downsample(TWIN, STREAM, ["n"], start, end, 100, "minmax")
+    assert pairs(got["n"]) == expected_minmax(times, values, start, end, 100)  # type: ignore[arg-type]
+    assert {type(v) for v in got["n"].values.tolist()} == {int}
+    lttb_picks = await history.downsample(TWIN, STREAM, ["n"], start, end, 50, "lttb")
+    stored = dict(zip(times, values, strict=True))
+    assert all(stored[t] == v for t, v in pairs(lttb_picks["n"]))  # picks are stored samples
+    few = await history.downsample(TWIN, STREAM, ["n"], times[0], times[20], 100, "minmax")
+    assert pairs(few["n"]) == list(zip(times[:21], values[:21], strict=True))

@@ -4,6 +4,7 @@ on time, paging, and blocks that overlap in time (late data)."""
 from __future__ import annotations
 
 import random
+import sqlite3
 
 import numpy as np
 import pytest
@@ -51,8 +52,9 @@ async def test_streams_list_signals_with_kind_count_and_times(history: SqliteHis
     streams = await history.streams(TWIN)
     assert [s["name"] for s in streams] == ["imu", STREAM]
     imu, telemetry = streams
-    assert (imu["count"], imu["first"], imu["last"]) == (1, T + 2 * S, T + 2 * S)
-    assert telemetry["count"] == 5
+    assert (imu["samples"], imu["first"], imu["last"]) == (1, T + 2 * S, T + 2 * S)
+    assert (telemetry["samples"], telemetry["values"], telemetry["count"]) == (2, 5, 5)
+    assert all(s["values"] == s["count"] for s in telemetry["signals"])
     kinds = {s["name"]: (s["kind"], s["count"]) for s in telemetry["signals"]}
     assert kinds == {
         "mode": ("string", 1),
@@ -173,3 +175,39 @@ async def test_extent_is_first_and_last_sample(history: SqliteHistory) -> None:
     await write(history, [(T - 5 * S, {"y": 1}), (T + 50 * S, {"y": 2})])
     assert await history.extent(TWIN, STREAM, ["x"]) == (T, T + 9 * S)
     assert await history.extent(TWIN, STREAM, None) == (T - 5 * S, T + 50 * S)
+
+
+async def samples_and_rows(history: SqliteHistory) -> tuple[int, int]:
+    [stream] = await history.streams(TWIN)
+    return stream["samples"], len(await all_rows(history))
+
+
+async def test_stream_samples_are_the_rows_of_samples(history: SqliteHistory) -> None:
+    # 6 472 samples of 11 signals are 6 472 samples (and 71 192 values), not 71 192
+    await write(history, [(T + i, {f"s{k}": i * k for k in range(11)}) for i in range(6_472)])
+    [stream] = await history.streams(TWIN)
+    assert (stream["samples"], stream["values"]) == (6_472, 71_192)
+    # a signal sent now and then joins the rows of the others
+    await write(history, [(T + i, {"mode": "run"}) for i in range(0, 6_472, 100)])
+    assert await samples_and_rows(history) == (6_472, 6_472)
+    # values of another batch at times already stored join those rows too
+    await write(history, [(T + 7_000, {"a": 1})])
+    await write(history, [(T + 7_000, {"b": 2})])
+    assert await samples_and_rows(history) == (6_473, 6_473)
+    # a second sample of a signal at one time is a row of its own
+    await write(history, [(T + 7_000, {"a": 3}), (T + 7_000, {"a": 4})])
+    assert await samples_and_rows(history) == (6_475, 6_475)
+
+
+async def test_stream_samples_of_blocks_written_before_their_times_hash(
+    history: SqliteHistory,
+) -> None:
+    await write(history, [(T + i, {"x": i, "y": -i}) for i in range(50)])
+    await write(history, [(T + 100 + i, {"x": i}) for i in range(20)])
+    conn = sqlite3.connect(history.path)
+    try:
+        with conn:
+            conn.execute("UPDATE blocks SET times_hash = NULL WHERE rowid % 2 = 0")
+    finally:
+        conn.close()
+    assert await samples_and_rows(history) == (70, 70)

@@ -2,16 +2,24 @@
 
 Times in answers are integers, ns since the epoch. `start` and `end` accept ISO 8601, integer
 ns, `now` or a time back from now (`-1h`); see `history.params`.
+
+Every read has a budget (store/sqlite/history/budget.py): an answer over its values is a 422,
+a query over its time a 503, each saying what to narrow. An export over its time after it
+began streaming is cut: the connection closes before the end of the body, so no client takes
+it for complete (JSON lines get a last `{"error": ...}` line first).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import logging
+from collections.abc import AsyncIterator, Iterator
 from contextlib import contextmanager
 from typing import Annotated
 
+import orjson
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from starlette.responses import StreamingResponse
+from starlette.types import Send
 
 from twinlink.api.deps import Caller
 from twinlink.api.responses import JSONAnswer
@@ -28,11 +36,13 @@ from twinlink.history.params import (
 )
 from twinlink.history.service import HistoryService, Selection
 from twinlink.store.sqlite.history.aggregate import FUNCTIONS
+from twinlink.store.sqlite.history.budget import QueryTooLargeError, ReadBudgetError
 from twinlink.store.sqlite.history.downsample import METHODS
 from twinlink.store.sqlite.history.export import FORMATS, TIME_FORMATS
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 router = APIRouter(prefix="/api/v1/twins/{slug}/streams", tags=["history"])
+log = logging.getLogger("twinlink.history")
 
 
 def history_service(request: Request) -> HistoryService:
@@ -49,11 +59,49 @@ End = Annotated[str | None, Query(description=f"To this time (inclusive): {TIME_
 
 @contextmanager
 def _bad_parameters() -> Iterator[None]:
-    """A QueryError becomes a 422 problem with its message."""
+    """A QueryError or an answer over the values budget becomes a 422 problem with its
+    message; a read over its time (or stopped by a shutdown) a 503."""
     try:
         yield
     except QueryError as err:
         raise HTTPException(422, str(err)) from None
+    except QueryTooLargeError as err:
+        raise HTTPException(422, str(err)) from None
+    except ReadBudgetError as err:
+        raise HTTPException(503, str(err)) from None
+
+
+class ExportResponse(StreamingResponse):
+    """An export, streamed; cut visibly when the read stops half way (over its time, or the
+    server stopping): the body's end is never sent, so the client sees an incomplete
+    transfer, and JSON lines end with an `{"error": ...}` line. The export's generator is
+    closed as soon as streaming ends, for whatever reason, so its read stops with it."""
+
+    def __init__(self, body: AsyncIterator[bytes], fmt: str, media_type: str, filename: str):
+        super().__init__(
+            body,
+            media_type=media_type,
+            headers={"Content-Disposition": f'attachment; filename="{filename}"'},
+        )
+        self.fmt = fmt
+        self.source = body
+
+    async def stream_response(self, send: Send) -> None:
+        start = {"type": "http.response.start", "status": self.status_code}
+        await send({**start, "headers": self.raw_headers})
+        try:
+            async for chunk in self.source:
+                await send({"type": "http.response.body", "body": chunk, "more_body": True})
+        except ReadBudgetError as err:
+            log.warning("history export cut: %s", err, extra={"event": "history_export_cut"})
+            if self.fmt == "jsonl":
+                line = orjson.dumps({"error": str(err)}) + b"\n"
+                await send({"type": "http.response.body", "body": line, "more_body": True})
+            return  # without the end of the body: the connection is closed
+        finally:
+            # Not left to the garbage collector: a client that went away stops the read now.
+            await self.source.aclose()  # type: ignore[attr-defined]
+        await send({"type": "http.response.body", "body": b"", "more_body": False})
 
 
 def _selection(
@@ -168,7 +216,7 @@ async def downsample(
 @router.get(
     "/{stream}/export",
     summary="The range as a CSV, JSON lines or JSON file, streamed",
-    response_class=StreamingResponse,
+    response_class=ExportResponse,
 )
 async def export(
     slug: str,
@@ -183,14 +231,10 @@ async def export(
     signals: Signals = None,
     start: Start = None,
     end: End = None,
-) -> StreamingResponse:
+) -> ExportResponse:
     with _bad_parameters():
         sel = _selection(history, stream, signals, start, end)
         fmt = parse_choice(format, "format", FORMATS, "csv")
         time_format = parse_choice(time, "time", TIME_FORMATS, "iso" if fmt == "csv" else "ns")
         out = await history.export(caller, slug, sel, fmt, time_format)
-    return StreamingResponse(
-        out.body,
-        media_type=out.media_type,
-        headers={"Content-Disposition": f'attachment; filename="{out.filename}"'},
-    )
+    return ExportResponse(out.body, fmt, out.media_type, out.filename)

@@ -12,6 +12,8 @@ from collections.abc import AsyncIterator, Callable
 from dataclasses import dataclass
 from typing import Any
 
+import orjson
+
 from twinlink.auth.rights import Principal, has_role
 from twinlink.domain.errors import ForbiddenError
 from twinlink.history.params import QueryError, format_cursor, human_ns, iso_ns
@@ -22,6 +24,7 @@ from twinlink.store.sqlite.history.export import MEDIA_TYPES
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 MAX_BUCKETS = 100_000
+_INT64 = 2**63
 
 
 @dataclass(frozen=True, slots=True)
@@ -140,7 +143,7 @@ class HistoryService:
             twin.id, sel.stream, sel.signals, start, end, bucket_ns, fns
         )
         answer["skipped"] = _text_signals(sel, result.text_only, "aggregate")
-        answer["rows"] = result.rows
+        answer["rows"] = _exact_sums(result.rows)
         return answer
 
     async def downsample(
@@ -180,6 +183,17 @@ class HistoryService:
             twin.id, sel.stream, sel.signals, sel.start, sel.end, fmt, time_format
         )
         return Export(f"{twin.slug}-{sel.stream}.{fmt}", MEDIA_TYPES[fmt], signals, body)
+
+
+def _exact_sums(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Sums of integers are exact Python ints; one beyond 64 bits (which orjson cannot write
+    as a number) goes out as its exact digits all the same."""
+    for row in rows:
+        for value in row["values"].values():
+            total = value.get("sum")
+            if type(total) is int and not -_INT64 <= total < 2 * _INT64:
+                value["sum"] = orjson.Fragment(str(total).encode())
+    return rows
 
 
 def _text_signals(sel: Selection, text: list[str], what: str) -> list[str]:

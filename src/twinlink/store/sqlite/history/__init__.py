@@ -7,40 +7,32 @@ on their own threads and connections (`reader.py`). Times are ns since the epoch
 
 from __future__ import annotations
 
+import sqlite3
 from collections.abc import AsyncIterator, Callable
-from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import retention
-from twinlink.store.sqlite.history.aggregate import aggregate_rows, aggregate_series
+from twinlink.store.sqlite.history.aggregate import Aggregated, aggregate
+from twinlink.store.sqlite.history.budget import ReadBudget, ReadLimits
 from twinlink.store.sqlite.history.compact import Compacted
 from twinlink.store.sqlite.history.downsample import Downsampled, downsample
 from twinlink.store.sqlite.history.export import export_pieces
 from twinlink.store.sqlite.history.merge import SamplePage, sample_page
-from twinlink.store.sqlite.history.queries import (
-    data_extent,
-    latest_values,
-    select_series,
-    signal_summaries,
-)
+from twinlink.store.sqlite.history.queries import data_extent, latest_values, select_series
 from twinlink.store.sqlite.history.reader import HistoryReader
+from twinlink.store.sqlite.history.streams import stream_summaries
 from twinlink.store.sqlite.history.writer import (
     MAX_SIGNALS_PER_STREAM,
     HistoryWriter,
     WriteFn,
 )
 
-__all__ = ["AggregateAnswer", "Downsampled", "SamplePage", "SqliteHistory"]
-
-
-@dataclass(slots=True)
-class AggregateAnswer:
-    rows: list[dict[str, Any]]
-    text_only: list[str] = field(default_factory=list)  # signals without a number in range
+T = TypeVar("T")
+__all__ = ["Aggregated", "Downsampled", "ReadLimits", "SamplePage", "SqliteHistory"]
 
 
 class SqliteHistory:
@@ -51,10 +43,12 @@ class SqliteHistory:
         *,
         max_signals_per_stream: int = MAX_SIGNALS_PER_STREAM,
         faults: StorageFaults | None = None,
+        limits: ReadLimits | None = None,
     ) -> None:
         self.path = data_dir / "history.db"
         self.writer = HistoryWriter(self.path, synchronous, max_signals_per_stream, faults)
         self.reader = HistoryReader(self.path)
+        self.limits = limits or ReadLimits()
 
     async def open(self) -> None:
         await self.writer.open()
@@ -88,37 +82,31 @@ class SqliteHistory:
             total.blocks_after += done.blocks_after
         return total
 
-    # -- reads -------------------------------------------------------------------------
+    # -- reads: each under a budget of time and values (ReadLimits) ---------------------
+
+    async def _read(self, fn: Callable[[sqlite3.Connection, ReadBudget], T]) -> T:
+        budget = self.limits.query()
+        return await self.reader.run(lambda conn: fn(conn, budget), budget)
 
     async def streams(self, twin_id: int) -> list[dict[str, Any]]:
-        """The twin's streams with their signals: kind, count, first and last time."""
-        signals = await self.reader.run(partial(signal_summaries, twin_id=twin_id))
-        streams: dict[str, dict[str, Any]] = {}
-        for s in signals:
-            name = s.pop("stream")
-            stream = streams.setdefault(
-                name, {"name": name, "count": 0, "first": s["first"], "last": s["last"]}
-            )
-            stream["count"] += s["count"]
-            stream["first"] = min(stream["first"], s["first"])
-            stream["last"] = max(stream["last"], s["last"])
-            stream.setdefault("signals", []).append(s)
-        return list(streams.values())
+        """The twin's streams: samples, values, first and last time, and their signals
+        (kind, values, first and last time); see streams.py."""
+        return await self._read(lambda conn, budget: stream_summaries(conn, twin_id, budget))
 
     async def latest(
         self, twin_id: int, stream: str, signals: list[str] | None
     ) -> dict[str, dict[str, Any]]:
         """{signal: {time, value}} of the newest value of each signal."""
-        return await self.reader.run(
-            lambda conn: latest_values(conn, select_series(conn, twin_id, stream, signals))
+        return await self._read(
+            lambda conn, _: latest_values(conn, select_series(conn, twin_id, stream, signals))
         )
 
     async def extent(
         self, twin_id: int, stream: str, signals: list[str] | None
     ) -> tuple[int, int] | None:
         """(first, last) time of the stored samples of these signals; None when none."""
-        return await self.reader.run(
-            lambda conn: data_extent(conn, select_series(conn, twin_id, stream, signals))
+        return await self._read(
+            lambda conn, _: data_extent(conn, select_series(conn, twin_id, stream, signals))
         )
 
     async def samples(
@@ -131,12 +119,14 @@ class SqliteHistory:
         limit: int,
         after: tuple[int, int] | None = None,
     ) -> SamplePage:
-        """Up to `limit` rows {time, values} in time order; `next_key` continues the page."""
-        return await self.reader.run(
-            lambda conn: sample_page(
-                conn, select_series(conn, twin_id, stream, signals), start, end, limit, after
-            )
-        )
+        """Up to `limit` rows {time, values} in time order (fewer when they would hold more
+        values than the budget); `next_key` continues the page."""
+
+        def run(conn: sqlite3.Connection, budget: ReadBudget) -> Any:
+            found = select_series(conn, twin_id, stream, signals)
+            return sample_page(conn, found, start, end, limit, after, budget)
+
+        return await self._read(run)
 
     async def aggregate(
         self,
@@ -147,19 +137,15 @@ class SqliteHistory:
         end: int,
         width: int,
         fns: list[str],
-    ) -> AggregateAnswer:
+    ) -> Aggregated:
         """Rows {time: bucket start, values: {signal: {fn: value}}} for buckets of `width` ns
         aligned to the epoch; empty buckets are left out."""
 
-        def run(conn: Any) -> AggregateAnswer:
-            results = {
-                s.signal: aggregate_series(conn, s, start, end, width)
-                for s in select_series(conn, twin_id, stream, signals)
-            }
-            text = [name for name, r in results.items() if r.text_only]
-            return AggregateAnswer(aggregate_rows(results, fns, width), text)
+        def run(conn: sqlite3.Connection, budget: ReadBudget) -> Any:
+            found = select_series(conn, twin_id, stream, signals)
+            return aggregate(conn, found, start, end, width, fns, budget)
 
-        return await self.reader.run(run)
+        return await self._read(run)
 
     async def downsample(
         self,
@@ -173,12 +159,12 @@ class SqliteHistory:
     ) -> dict[str, Downsampled]:
         """Per signal, at most `points` samples that keep the shape (`method` minmax or
         lttb)."""
-        return await self.reader.run(
-            lambda conn: {
-                s.signal: downsample(conn, s, start, end, points, method)
-                for s in select_series(conn, twin_id, stream, signals)
-            }
-        )
+
+        def run(conn: sqlite3.Connection, budget: ReadBudget) -> Any:
+            found = select_series(conn, twin_id, stream, signals)
+            return downsample(conn, found, start, end, points, method, budget)
+
+        return await self._read(run)
 
     async def export(
         self,
@@ -191,10 +177,13 @@ class SqliteHistory:
         time_format: str,
     ) -> tuple[list[str], AsyncIterator[bytes]]:
         """The signal names, and the range as `fmt` text in pieces. The series are looked up
-        first, so an unknown stream or signal fails before anything is sent."""
-        series = await self.reader.run(lambda conn: select_series(conn, twin_id, stream, signals))
+        first, so an unknown stream or signal fails before anything is sent. The pieces stop
+        (ReadBudgetError) when the export runs over its time budget."""
+        series = await self._read(lambda conn, _: select_series(conn, twin_id, stream, signals))
+        budget = self.limits.export()
         pieces: AsyncIterator[bytes] = self.reader.stream(
-            lambda conn: export_pieces(conn, series, start, end, fmt, time_format)
+            lambda conn: export_pieces(conn, series, start, end, fmt, time_format, budget),
+            budget,
         )
         return [s.signal for s in series], pieces
 

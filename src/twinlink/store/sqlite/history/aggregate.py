@@ -1,28 +1,41 @@
-"""Aggregation over fixed time buckets, from block summaries where it can.
+"""Aggregation over fixed time buckets, for all the signals of a query at once, from block
+summaries where it can.
 
 A block that lies inside [start, end] and inside one bucket adds its stored summary (count,
-sum, min, max, first, last) to that bucket; SQLite groups those summaries itself, so they cost
-an index walk and no decoding. Only blocks that straddle a bucket edge or the range ends (and
-blocks of mixed JSON values) are decoded, sample by sample.
+sum, min, max, first, last) to that bucket; SQLite groups those summaries itself, per signal
+and bucket, in three statements for every signal of the query. The other blocks (across a
+bucket edge or a range end, JSON blocks, and integer blocks whose REAL summary is not exact)
+are read in one statement, in pages, and decoded with numpy for all signals together.
+
+Integer signals stay exact (partials.py): a summary is used for them only when its REAL
+columns hold the exact integers (every |value| times the block's count below 2^53); other
+blocks are read from their int64 blobs.
 """
 
 from __future__ import annotations
 
 import sqlite3
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
-from twinlink.store.sqlite.history.columns import Floats, Times, numeric_column
-from twinlink.store.sqlite.history.queries import BLOCKS_IN_RANGE, Series, holds_numbers
+from twinlink.store.sqlite.history.budget import ReadBudget
+from twinlink.store.sqlite.history.columns import numeric_blocks
+from twinlink.store.sqlite.history.partials import Partials, sample_partials
+from twinlink.store.sqlite.history.queries import Series
+from twinlink.store.sqlite.history.scan import PAGE_SAMPLES, WHERE, SeriesSet, classify
 
 FUNCTIONS = ("avg", "min", "max", "count", "first", "last", "sum")
-Buckets = npt.NDArray[np.int64]
 
 # A block wholly inside [start, end] and inside one bucket: bucket(t) = (t - origin) / width.
 INSIDE_ONE_BUCKET = "kind != 'j' AND t0 >= ? AND t1 <= ? AND (t0 - ?) / ? = (t1 - ?) / ?"
+# A block whose REAL vmin, vmax and vsum are its exact values (integer blocks: every partial
+# sum below 2^53 in magnitude).
+EXACT_SUMMARY = "(kind <> 'i' OR n * MAX(ABS(vmin), ABS(vmax)) < 9007199254740992.0)"
+_SUMMARY = f"{WHERE} AND {INSIDE_ONE_BUCKET} AND {EXACT_SUMMARY}"
+_SPLIT = 26  # integer vsum (< 2^53) summed in SQL as high and low parts, which cannot overflow
 
 
 def inside_args(start: int, end: int, origin: int, width: int) -> tuple[int, ...]:
@@ -30,165 +43,183 @@ def inside_args(start: int, end: int, origin: int, width: int) -> tuple[int, ...
 
 
 @dataclass(slots=True)
-class Partials:
-    """Partial aggregates, one per (bucket, source); `reduce` makes them one per bucket."""
-
-    bucket: Buckets
-    count: npt.NDArray[np.int64]
-    total: Floats
-    low: Floats
-    high: Floats
-    first_t: Times
-    first_v: Floats
-    last_t: Times
-    last_v: Floats
-
-    def __len__(self) -> int:
-        return int(self.bucket.size)
-
-    @classmethod
-    def empty(cls) -> Partials:
-        ints, floats = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.float64)
-        return cls(ints, ints, floats, floats, floats, ints, floats, ints, floats)
-
-    @classmethod
-    def concat(cls, parts: list[Partials]) -> Partials:
-        names = cls.__slots__
-        return cls(*(np.concatenate([getattr(p, n) for p in parts]) for n in names))
-
-    def reduce(self) -> Partials:
-        if len(self) == 0:
-            return self
-        order = np.lexsort((self.first_t, self.bucket))
-        b = self.bucket[order]
-        starts = np.flatnonzero(np.r_[True, b[1:] != b[:-1]])
-        by_last = np.lexsort((self.last_t, self.bucket))
-        ends = np.r_[starts[1:], b.size] - 1
-        return Partials(
-            bucket=b[starts],
-            count=np.add.reduceat(self.count[order], starts),
-            total=np.add.reduceat(self.total[order], starts),
-            low=np.minimum.reduceat(self.low[order], starts),
-            high=np.maximum.reduceat(self.high[order], starts),
-            first_t=self.first_t[order][starts],
-            first_v=self.first_v[order][starts],
-            last_t=self.last_t[by_last][ends],
-            last_v=self.last_v[by_last][ends],
-        )
-
-    def values(self, fn: str) -> list[Any]:
-        column = {
-            "avg": self.total / np.maximum(self.count, 1),
-            "min": self.low,
-            "max": self.high,
-            "count": self.count,
-            "first": self.first_v,
-            "last": self.last_v,
-            "sum": self.total,
-        }[fn]
-        return column.tolist()  # type: ignore[no-any-return]
+class Aggregated:
+    rows: list[dict[str, Any]]
+    text_only: list[str]  # signals with blocks in range, none of them numeric
 
 
-def sample_partials(times: Times, values: Floats, origin: int, width: int) -> Partials:
-    """Per-bucket partials of samples sorted by time (each bucket is one contiguous run)."""
-    if times.size == 0:
-        return Partials.empty()
-    b = (times - origin) // width
-    starts = np.flatnonzero(np.r_[True, b[1:] != b[:-1]])
-    ends = np.r_[starts[1:], b.size] - 1
-    return Partials(
-        bucket=b[starts],
-        count=np.diff(np.r_[starts, b.size]).astype(np.int64),
-        total=np.add.reduceat(values, starts),
-        low=np.minimum.reduceat(values, starts),
-        high=np.maximum.reduceat(values, starts),
-        first_t=times[starts],
-        first_v=values[starts],
-        last_t=times[ends],
-        last_v=values[ends],
-    )
+def aggregate(
+    conn: sqlite3.Connection,
+    series: list[Series],
+    start: int,
+    end: int,
+    width: int,
+    fns: list[str],
+    budget: ReadBudget,
+    origin: int = 0,
+) -> Aggregated:
+    """Rows {time: bucket start, values: {signal: {fn: value}}} over buckets
+    [origin + k * width, origin + (k + 1) * width) in [start, end]; empty buckets left out."""
+    sset = SeriesSet.of(series)
+    kinds = classify(conn, sset, start, end)
+    text = [s.signal for s, t in zip(series, kinds.text_only.tolist(), strict=True) if t]
+    numbers = sset.subset(kinds.numeric.tolist())
+    if not len(numbers):
+        return Aggregated([], text)
+    buckets = (end - origin) // width - (start - origin) // width + 1
+    held = np.minimum(kinds.samples[kinds.numeric], buckets)
+    budget.values(int(held.sum()) * len(fns), "the aggregate")
+    exact = kinds.integer[kinds.numeric]  # by position in `numbers`
+    tables = _summaries(conn, numbers, exact, start, end, width, origin)
+    for part in _straddling(conn, numbers, exact, start, end, width, origin, budget):
+        tables.append(part)
+        budget.check()
+    ints = Partials.concat([Partials.empty(True), *(t for t in tables if t.exact)])
+    floats = Partials.concat([Partials.empty(False), *(t for t in tables if not t.exact)])
+    names = [s.signal for s in numbers.series]
+    tables = [ints.reduce(), floats.reduce()]
+    return Aggregated(aggregate_rows(names, tables, fns, width, origin), text)
 
 
-def _summary_partials(
-    conn: sqlite3.Connection, s: Series, start: int, end: int, origin: int, width: int
-) -> Partials:
-    where = f"{BLOCKS_IN_RANGE} AND {INSIDE_ONE_BUCKET}"
-    args = (origin, width, *s.scan(start, end), *inside_args(start, end, origin, width))
+def _summaries(
+    conn: sqlite3.Connection,
+    sset: SeriesSet,
+    exact: np.ndarray[Any, np.dtype[np.bool_]],
+    start: int,
+    end: int,
+    width: int,
+    origin: int,
+) -> list[Partials]:
+    """Partials from the summaries of the blocks inside one bucket: an integer and a float
+    table."""
+    args = (origin, width, *sset.scan(start, end), *inside_args(start, end, origin, width))
     sums = conn.execute(
-        f"SELECT (t0 - ?) / ? AS b, SUM(n), SUM(vsum), MIN(vmin), MAX(vmax) FROM blocks "
-        f"WHERE {where} GROUP BY b ORDER BY b",
+        f"SELECT series_id, (t0 - ?) / ? AS b, SUM(n), SUM(vsum), MIN(vmin), MAX(vmax), "
+        f"SUM(CASE WHEN kind = 'i' THEN CAST(vsum AS INTEGER) >> {_SPLIT} END), "
+        f"SUM(CASE WHEN kind = 'i' THEN CAST(vsum AS INTEGER) & {(1 << _SPLIT) - 1} END) "
+        f"FROM blocks WHERE {_SUMMARY} GROUP BY series_id, b ORDER BY series_id, b",
         args,
     ).fetchall()
     if not sums:
-        return Partials.empty()
+        return []
     # With one min() or max() in a query, SQLite takes the other columns from that row.
     firsts = conn.execute(
-        f"SELECT (t0 - ?) / ? AS b, MIN(t0), first_v FROM blocks WHERE {where} "
-        "GROUP BY b ORDER BY b",
+        f"SELECT (t0 - ?) / ? AS b, MIN(t0), first_v FROM blocks WHERE {_SUMMARY} "
+        "GROUP BY series_id, b ORDER BY series_id, b",
         args,
     ).fetchall()
     lasts = conn.execute(
-        f"SELECT (t0 - ?) / ? AS b, MAX(t1), last_v FROM blocks WHERE {where} "
-        "GROUP BY b ORDER BY b",
+        f"SELECT (t0 - ?) / ? AS b, MAX(t1), last_v FROM blocks WHERE {_SUMMARY} "
+        "GROUP BY series_id, b ORDER BY series_id, b",
         args,
     ).fetchall()
-    b, count, total, low, high = (np.asarray(c) for c in zip(*sums, strict=True))
-    _, first_t, first_v = (np.asarray(c) for c in zip(*firsts, strict=True))
-    _, last_t, last_v = (np.asarray(c) for c in zip(*lasts, strict=True))
+    series = sset.position(np.asarray([r[0] for r in sums], dtype=np.int64))
+    is_int = exact[series]
+    tables = []
+    for want in (True, False):
+        pick = np.flatnonzero(is_int == want).tolist()
+        if pick:
+            tables.append(_summary_table(sums, firsts, lasts, series, pick, want))
+    return tables
+
+
+def _summary_table(
+    sums: list[Any], firsts: list[Any], lasts: list[Any], series: Any, pick: list[int], ints: bool
+) -> Partials:
+    rows = [sums[i] for i in pick]
+    value = np.int64 if ints else np.float64
+    if ints:
+        total = np.empty(len(rows), dtype=object)
+        total[:] = [(r[6] << _SPLIT) + r[7] for r in rows]
+    else:
+        total = np.asarray([r[3] for r in rows], dtype=np.float64)
     return Partials(
-        bucket=b.astype(np.int64),
-        count=count.astype(np.int64),
-        total=total.astype(np.float64),
-        low=low.astype(np.float64),
-        high=high.astype(np.float64),
-        first_t=first_t.astype(np.int64),
-        first_v=first_v.astype(np.float64),
-        last_t=last_t.astype(np.int64),
-        last_v=last_v.astype(np.float64),
+        series=series[pick],
+        bucket=np.asarray([r[1] for r in rows], dtype=np.int64),
+        count=np.asarray([r[2] for r in rows], dtype=np.int64),
+        total=total,
+        low=np.asarray([r[4] for r in rows]).astype(value),
+        high=np.asarray([r[5] for r in rows]).astype(value),
+        first_t=np.asarray([firsts[i][1] for i in pick], dtype=np.int64),
+        first_v=np.asarray([firsts[i][2] for i in pick]).astype(value),
+        last_t=np.asarray([lasts[i][1] for i in pick], dtype=np.int64),
+        last_v=np.asarray([lasts[i][2] for i in pick]).astype(value),
     )
 
 
-def straddling_samples(
-    conn: sqlite3.Connection, s: Series, start: int, end: int, origin: int, width: int
-) -> tuple[Times, Floats]:
-    """The numeric samples in [start, end] of the blocks that are not inside one bucket."""
-    blocks = conn.execute(
-        f"SELECT t0, t1, kind, times, vals FROM blocks WHERE {BLOCKS_IN_RANGE} "
-        f"AND NOT ({INSIDE_ONE_BUCKET}) ORDER BY t0, rowid",
-        (*s.scan(start, end), *inside_args(start, end, origin, width)),
-    ).fetchall()
-    return numeric_column(blocks, start, end)
+def _straddling(
+    conn: sqlite3.Connection,
+    sset: SeriesSet,
+    exact: np.ndarray[Any, np.dtype[np.bool_]],
+    start: int,
+    end: int,
+    width: int,
+    origin: int,
+    budget: ReadBudget,
+) -> Iterator[Partials]:
+    """Partials of the samples in [start, end] of the blocks not summarised, a page of
+    about PAGE_SAMPLES samples at a time (all signals together)."""
+    cursor = conn.execute(
+        f"SELECT series_id, n, kind, times, vals FROM blocks WHERE {WHERE} "
+        f"AND NOT ({INSIDE_ONE_BUCKET} AND {EXACT_SUMMARY}) ORDER BY series_id, t0, rowid",
+        (*sset.scan(start, end), *inside_args(start, end, origin, width)),
+    )
+    page: list[Any] = []
+    held = 0
+    while rows := cursor.fetchmany(256):
+        page.extend(rows)
+        held += sum(r[1] for r in rows)
+        if held >= PAGE_SAMPLES:
+            yield from _page_partials(page, sset, exact, start, end, width, origin)
+            page, held = [], 0
+            budget.check()
+    if page:
+        yield from _page_partials(page, sset, exact, start, end, width, origin)
 
 
-@dataclass(slots=True)
-class SignalBuckets:
-    partials: Partials
-    text_only: bool  # the signal has blocks in range, and none of them is numeric
-
-
-def aggregate_series(
-    conn: sqlite3.Connection, s: Series, start: int, end: int, width: int, origin: int = 0
-) -> SignalBuckets:
-    """Per-bucket aggregates of one signal over [start, end]; buckets are
-    [origin + k * width, origin + (k + 1) * width)."""
-    numbers = holds_numbers(conn, s, start, end)
-    if not numbers:
-        return SignalBuckets(Partials.empty(), text_only=numbers is False)
-    summary = _summary_partials(conn, s, start, end, origin, width)
-    times, values = straddling_samples(conn, s, start, end, origin, width)
-    samples = sample_partials(times, values, origin, width)
-    return SignalBuckets(Partials.concat([summary, samples]).reduce(), text_only=False)
+def _page_partials(
+    rows: list[Any],
+    sset: SeriesSet,
+    exact: np.ndarray[Any, np.dtype[np.bool_]],
+    start: int,
+    end: int,
+    width: int,
+    origin: int,
+) -> Iterator[Partials]:
+    at = sset.position(np.asarray([r[0] for r in rows], dtype=np.int64))
+    is_int = exact[at]
+    for want in (True, False):
+        pick = np.flatnonzero(is_int == want).tolist()
+        if not pick:
+            continue
+        times, values, sizes = numeric_blocks([rows[i][2:] for i in pick], exact=want)
+        series = np.repeat(at[pick], sizes)
+        keep = (times >= start) & (times <= end)
+        times, values, series = times[keep], values[keep], series[keep]
+        order = np.lexsort((times, series))  # stable: equal times keep block order
+        yield sample_partials(times[order], values[order], series[order], origin, width)
 
 
 def aggregate_rows(
-    results: dict[str, SignalBuckets], fns: list[str], width: int, origin: int = 0
+    names: list[str], tables: list[Partials], fns: list[str], width: int, origin: int = 0
 ) -> list[dict[str, Any]]:
-    """Rows joined on the bucket start: {time, values: {signal: {fn: value}}}."""
-    rows: dict[int, dict[str, Any]] = {}
-    for name, result in results.items():
-        p = result.partials
+    """Rows joined on the bucket start: {time, values: {signal: {fn: value}}}, signals in
+    the order of `names`."""
+    entries: list[tuple[int, int, dict[str, Any]]] = []
+    for p in tables:
         columns = [p.values(fn) for fn in fns]
-        for i, bucket in enumerate(p.bucket.tolist()):
-            row = rows.setdefault(bucket, {"time": origin + bucket * width, "values": {}})
-            row["values"][name] = {fn: col[i] for fn, col in zip(fns, columns, strict=True)}
-    return [rows[b] for b in sorted(rows)]
+        for i, (bucket, series) in enumerate(
+            zip(p.bucket.tolist(), p.series.tolist(), strict=True)
+        ):
+            entries.append(
+                (bucket, series, {fn: col[i] for fn, col in zip(fns, columns, strict=True)})
+            )
+    entries.sort(key=lambda e: (e[0], e[1]))
+    rows: list[dict[str, Any]] = []
+    for bucket, series, value in entries:
+        if not rows or rows[-1]["bucket"] != bucket:
+            rows.append({"bucket": bucket, "time": origin + bucket * width, "values": {}})
+        rows[-1]["values"][names[series]] = value
+    for row in rows:
+        del row["bucket"]
+    return rows

@@ -1,8 +1,9 @@
 """Column-wise blocks: one signal's samples from one batch, packed for storage.
 
 A block keeps its times sorted (stable, so equal times keep arrival order) and carries a
-summary (count, min, max, sum, first, last) so aggregations can use whole blocks unread, and
-where its extremes are (`sketch.py`) so min/max downsampling can too.
+summary (count, min, max, sum, first, last) so aggregations can use whole blocks unread, where
+its extremes are (`sketch.py`) so min/max downsampling can too, and a hash of its times so a
+stream's samples can be counted without reading its blocks (`times_hash`).
 """
 
 from __future__ import annotations
@@ -42,19 +43,37 @@ class Block:
     tmin: int | None = None  # numeric kinds only: the time of vmin (the first of equals)
     tmax: int | None = None
     sketch: bytes | None = None  # numeric blocks of more than sketch.CHUNK samples
+    times_hash: int | None = None  # see `times_hash`
 
 
-# Named columns: the table gained tmin, tmax and sketch after the others (migration 0003).
+# Named columns: the table gained tmin, tmax and sketch (migration 0003) and times_hash
+# (0004) after the others.
 INSERT_BLOCK = (
     "INSERT INTO blocks (series_id, t0, t1, n, kind, vmin, vmax, vsum, first_v, last_v, "
-    "times, vals, tmin, tmax, sketch) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
+    "times, vals, tmin, tmax, sketch, times_hash) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
+HASH_BITS = 62
+_HASH_MASK = (1 << HASH_BITS) - 1
+_MIX = (0x9E3779B97F4A7C15, 0xBF58476D1CE4E5B9, 0x94D049BB133111EB)  # splitmix64
 
 
 def block_row(series_id: int, b: Block) -> tuple[Any, ...]:
     """The parameters of INSERT_BLOCK for one block."""
     return (series_id, b.t0, b.t1, b.n, b.kind, b.vmin, b.vmax, b.vsum, _sql(b.first_v),
-            _sql(b.last_v), b.times, b.vals, b.tmin, b.tmax, b.sketch)  # fmt: skip
+            _sql(b.last_v), b.times, b.vals, b.tmin, b.tmax, b.sketch, b.times_hash)  # fmt: skip
+
+
+def times_hash(times: npt.NDArray[np.int64]) -> int:
+    """The sum (mod 2^62) of splitmix64 of each time: equal for equal multisets of times,
+    and additive, so the hash of a signal's times is the sum of its blocks' (also after
+    compaction merged some). Different multisets collide with a chance of about 2^-62."""
+    x = times.view(np.uint64)
+    x = x + np.uint64(_MIX[0])  # uint64 arrays wrap around silently, as splitmix64 wants
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(_MIX[1])
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(_MIX[2])
+    x ^= x >> np.uint64(31)
+    return int(x.sum(dtype=np.uint64)) & _HASH_MASK
 
 
 def _sql(value: Value) -> Value:
@@ -121,6 +140,7 @@ def encode(signal: str, times: list[int], values: list[Value]) -> Block:
         tmin=tmin,
         tmax=tmax,
         sketch=sketch_blob,
+        times_hash=times_hash(t),
     )
 
 

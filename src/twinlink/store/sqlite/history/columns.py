@@ -97,3 +97,36 @@ def numeric_column(blocks: Sequence[NumericBlock], start: int, end: int) -> tupl
     if t.size:
         t, v = clip(t, v, start, end)
     return t, v
+
+
+def numeric_blocks(
+    blocks: Sequence[tuple[str, bytes, bytes]], exact: bool
+) -> tuple[Times, Values, npt.NDArray[np.intp]]:
+    """The numeric samples of many blocks (kind, times, vals) in one piece, in block order,
+    and how many each block gave. `exact`: the blocks are all integer blocks, and their
+    values stay int64; else they are floats (bools as 0 and 1; text of JSON blocks left out).
+    """
+    if not blocks:
+        empty: Values = np.empty(0, dtype=np.int64 if exact else np.float64)
+        return EMPTY_TIMES, empty, np.empty(0, dtype=np.intp)
+    kinds = {b[0] for b in blocks}
+    if "j" not in kinds:
+        sizes = np.fromiter((len(b[1]) // 8 for b in blocks), np.intp, len(blocks))
+        times = np.frombuffer(b"".join(b[1] for b in blocks), dtype=TIME_DTYPE)
+        if len(kinds) == 1:
+            raw = np.frombuffer(b"".join(b[2] for b in blocks), dtype=_NUMERIC_DTYPES[kinds.pop()])
+            return times, raw if exact else raw.astype(np.float64, copy=False), sizes
+        values = np.empty(times.size, dtype=np.float64)
+        kind_of = np.asarray([b[0] for b in blocks])
+        for kind in kinds:
+            which = kind_of == kind
+            part = b"".join(b[2] for b, w in zip(blocks, which.tolist(), strict=True) if w)
+            values[np.repeat(which, sizes)] = np.frombuffer(part, dtype=_NUMERIC_DTYPES[kind])
+        return times, values, sizes
+    parts = [numeric_block(*b) for b in blocks]  # JSON blocks: few, decoded one by one
+    sizes = np.fromiter((p[0].size for p in parts), np.intp, len(parts))
+    return (
+        np.concatenate([p[0] for p in parts]),
+        np.concatenate([p[1] for p in parts]),
+        sizes,
+    )

@@ -1,19 +1,21 @@
 """Export of a range as CSV, JSON lines or a JSON array, streamed in constant memory.
 
-The rows come from the k-way merge a run at a time and leave as text in pieces of about
-64 KiB; nothing holds more than the blocks being merged and one piece of output.
+The rows come from the merge (merge.py) a page at a time and leave as text in pieces of about
+64 KiB; nothing holds more than one page of blocks and its text. Each piece is one step of
+the read (reader.py), so a client that stops reading stops the work within a page.
 """
 
 from __future__ import annotations
 
 import sqlite3
-from collections.abc import Generator, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable, Iterator
 from typing import Any
 
 import numpy as np
 import orjson
 
-from twinlink.store.sqlite.history.columns import Times, Values
+from twinlink.store.sqlite.history.budget import ReadBudget
+from twinlink.store.sqlite.history.columns import Times
 from twinlink.store.sqlite.history.merge import Rows, joined_rows
 from twinlink.store.sqlite.history.queries import Series
 
@@ -51,30 +53,31 @@ def csv_cell(value: Any) -> str:
     return str(value)
 
 
-def _cells(values: Values) -> list[str]:
-    if values.dtype == bool:
-        return ["true" if v else "false" for v in values.tolist()]
-    if values.dtype.kind in "iu":
-        return list(map(str, values.tolist()))
-    if values.dtype.kind == "f":
-        return list(map(repr, values.tolist()))
-    return [csv_cell(v) for v in values.tolist()]
+_CELL: dict[type, Callable[[Any], str]] = {  # by type: one dict lookup a value
+    bool: lambda v: "true" if v else "false",
+    int: str,
+    float: repr,
+    str: csv_cell,
+}
+_CSV_CELLS = 1 << 20  # cells of one block of CSV lines: rows x signals, empty ones included
 
 
-def csv_text(rows: Rows, time_format: str) -> str:
-    """The rows as CSV lines: time, then one cell per signal, empty where it has no value."""
-    n = len(rows)
-    columns = []
-    for idx, values in rows.columns:
-        cells = _cells(values)
-        if idx.size != n:
-            spread = [""] * n
-            for i, cell in zip(idx.tolist(), cells, strict=True):
-                spread[i] = cell
-            cells = spread
-        columns.append(cells)
-    lines = zip(_time_texts(rows.times, time_format), *columns, strict=True)
-    return "".join(",".join(line) + "\n" for line in lines)
+def csv_text(rows: Rows, time_format: str, width: int) -> Iterator[str]:
+    """The rows as CSV lines (time, then one cell per signal of the `width` signals, empty
+    where it has no value), in blocks of about a million cells."""
+    cells = np.asarray(
+        [_CELL.get(type(v), csv_cell)(v) for v in rows.values.tolist()], dtype=object
+    )
+    times = _time_texts(rows.times, time_format)
+    step = max(1, _CSV_CELLS // max(1, width))
+    sizes = np.diff(rows.starts)
+    for lo in range(0, len(rows), step):
+        hi = min(len(rows), lo + step)
+        a, b = int(rows.starts[lo]), int(rows.starts[hi])
+        grid = np.full((hi - lo, width + 1), "", dtype=object)
+        grid[:, 0] = times[lo:hi]
+        grid[np.repeat(np.arange(hi - lo), sizes[lo:hi]), rows.series[a:b] + 1] = cells[a:b]
+        yield "".join(",".join(line) + "\n" for line in grid.tolist())
 
 
 def _pieces(texts: Iterable[bytes]) -> Iterator[bytes]:
@@ -94,7 +97,8 @@ def _pieces(texts: Iterable[bytes]) -> Iterator[bytes]:
 def _csv(runs: Iterator[Rows], names: list[str], time_format: str) -> Iterator[bytes]:
     yield ("time," + ",".join(names) + "\n").encode()
     for rows in runs:
-        yield csv_text(rows, time_format).encode()
+        for text in csv_text(rows, time_format, len(names)):
+            yield text.encode()
 
 
 def _dicts(runs: Iterator[Rows], names: list[str], time_format: str) -> Iterator[dict[str, Any]]:
@@ -129,9 +133,10 @@ def export_pieces(
     end: int,
     fmt: str,
     time_format: str,
+    budget: ReadBudget,
 ) -> Generator[bytes, None, None]:
     """The range as `fmt` text, in pieces of about 64 KiB."""
-    runs = joined_rows(conn, series, start, end)
+    runs = joined_rows(conn, series, start, end, budget)
     try:
         yield from _pieces(_WRITERS[fmt](runs, [s.signal for s in series], time_format))
     finally:

@@ -1,8 +1,9 @@
 """The smallest and the largest sample per bucket, from candidates, with numpy only.
 
 A candidate is (bucket, value, time): a sample, or the extreme of a chunk or block that lies
-inside one bucket. Per bucket the smallest (largest) value wins, and of equal values the
-earliest; a bucket's low and high come out as one or two samples in time order.
+inside one bucket (floats, or int64 where integers must stay exact). Per bucket the smallest
+(largest) value wins, and of equal values the earliest; a bucket's low and high come out as
+one or two samples in time order.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from twinlink.store.sqlite.history.codec import TIME_DTYPE, VALUE_DTYPES
-from twinlink.store.sqlite.history.columns import EMPTY_FLOATS, EMPTY_TIMES, Floats, Times
+from twinlink.store.sqlite.history.columns import EMPTY_FLOATS, EMPTY_TIMES, Floats, Times, Values
 
 Ints = npt.NDArray[np.int64]
 
@@ -23,9 +24,9 @@ Ints = npt.NDArray[np.int64]
 @dataclass(slots=True)
 class Candidates:
     bucket: Ints
-    low: Floats
+    low: Values  # float64, or int64 for exact integers
     t_low: Times
-    high: Floats
+    high: Values
     t_high: Times
 
     @classmethod
@@ -47,13 +48,13 @@ class Candidates:
         return Candidates(b, low, t_low, high, t_high)
 
     @classmethod
-    def of_samples(cls, times: Times, values: Floats, origin: int, width: int) -> Candidates:
+    def of_samples(cls, times: Times, values: Values, origin: int, width: int) -> Candidates:
         return cls((times - origin) // width, values, times, values, times)
 
 
 def best_per_bucket(
-    bucket: Ints, value: Floats, time: Times, smallest: bool
-) -> tuple[Ints, Floats, Times]:
+    bucket: Ints, value: Values, time: Times, smallest: bool
+) -> tuple[Ints, Values, Times]:
     """(buckets, values, times): per bucket the smallest (or largest) value, the earliest of
     equals. Values must not be NaN."""
     if bucket.size > 1 and bool(np.any(bucket[1:] < bucket[:-1])):
@@ -74,11 +75,17 @@ def _run_starts(sorted_keys: Ints) -> npt.NDArray[np.intp]:
     return np.flatnonzero(new)
 
 
-def bucket_points(c: Candidates) -> tuple[Times, Floats]:
+def bucket_points(c: Candidates) -> tuple[Times, Values]:
     """The low and the high sample of each bucket in time order (one when they are the
     same sample)."""
+    _, times, values = keyed_points(c)
+    return times, values
+
+
+def keyed_points(c: Candidates) -> tuple[Ints, Times, Values]:
+    """`bucket_points`, with the bucket of each point."""
     if c.bucket.size == 0:
-        return EMPTY_TIMES, EMPTY_FLOATS
+        return np.empty(0, dtype=np.int64), EMPTY_TIMES, EMPTY_FLOATS
     one = c.reduce()
     lv, lt, hv, ht = one.low, one.t_low, one.high, one.t_high
     low_first = (lt < ht) | ((lt == ht) & (lv <= hv))
@@ -86,7 +93,8 @@ def bucket_points(c: Candidates) -> tuple[Times, Floats]:
     values = np.stack([np.where(low_first, lv, hv), np.where(low_first, hv, lv)], axis=1)
     keep = np.ones(times.shape, dtype=bool)
     keep[:, 1] = (lt != ht) | (lv != hv)
-    return times[keep], values[keep]
+    buckets = np.stack([one.bucket, one.bucket], axis=1)
+    return buckets[keep], times[keep], values[keep]
 
 
 def read_ranges(
