@@ -43,7 +43,8 @@ def history() -> None:
 def history_streams(ctx: click.Context, twin: str, as_json: bool) -> None:
     """List a twin's streams and signals.
 
-    For each signal: its kind, how many samples are stored, and the first and last time.
+    For each signal: its kind, how many values are stored, and the first and last time. For
+    each stream: its samples (rows joined on time, as `history show` prints them) and values.
     """
     answer = client_for(ctx).json("GET", _streams_path(twin))
     if as_json:
@@ -54,7 +55,7 @@ def history_streams(ctx: click.Context, twin: str, as_json: bool) -> None:
             s["name"],
             sig["name"],
             sig["kind"],
-            str(sig["count"]),
+            str(sig.get("values", sig["count"])),
             show_time(sig["first"]),
             show_time(sig["last"]),
         ]
@@ -64,7 +65,11 @@ def history_streams(ctx: click.Context, twin: str, as_json: bool) -> None:
     if not rows:
         click.echo(f"{twin} has no stored telemetry.")
         return
-    table(["STREAM", "SIGNAL", "KIND", "SAMPLES", "FIRST", "LAST"], rows)
+    table(["STREAM", "SIGNAL", "KIND", "VALUES", "FIRST", "LAST"], rows)
+    for s in answer["streams"]:
+        if "samples" in s:  # a server before issue 13 had only `count` (values)
+            samples = "an unknown number of" if s["samples"] is None else s["samples"]
+            click.echo(f"{s['name']}: {samples} samples, {s['values']} values")
 
 
 @history.command("latest")
