@@ -211,3 +211,14 @@ async def test_stream_samples_of_blocks_written_before_their_times_hash(
     finally:
         conn.close()
     assert await samples_and_rows(history) == (70, 70)
+
+
+async def test_an_unknown_signal_of_a_wide_stream_names_a_few_of_its_signals(
+    history: SqliteHistory,
+) -> None:
+    await write(history, [(T, {f"s{i:03d}": i for i in range(300)})])
+    with pytest.raises(NotFoundError) as refused:
+        await history.samples(TWIN, STREAM, ["nope"], MIN_TIME, MAX_TIME, 10)
+    assert str(refused.value).endswith("(its signals: s000, s001, s002, s003, s004, s005, "
+        "s006, s007, s008, s009, s010, s011, s012, s013, s014, s015, s016, s017, s018, s019 "
+        "and 280 more)")  # fmt: skip

@@ -68,10 +68,17 @@ def select_series(
     missing = [s for s in signals if s not in known]
     if missing:
         raise NotFoundError(
-            f"stream {stream!r} has no signal {', '.join(map(repr, missing))} "
-            f"(its signals: {', '.join(known)})"
+            f"stream {stream!r} has no signal {_some(list(map(repr, missing)))} "
+            f"(its signals: {_some(list(known))})"
         )
     return [known[s] for s in dict.fromkeys(signals)]
+
+
+def _some(names: list[str], most: int = 20) -> str:
+    """Names for a message: a stream may have thousands of signals, a message shows 20."""
+    if len(names) <= most:
+        return ", ".join(names)
+    return f"{', '.join(names[:most])} and {len(names) - most} more"
 
 
 STREAM_NAMES = "SELECT DISTINCT stream FROM series WHERE twin_id = ? ORDER BY stream"
