@@ -217,6 +217,7 @@ async def downsample(
     "/{stream}/export",
     summary="The range as a CSV, JSON lines or JSON file, streamed",
     response_class=ExportResponse,
+    status_code=200,  # ExportResponse takes no status_code, from which FastAPI would read it
 )
 async def export(
     slug: str,
