@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import sqlite3
 
+import pytest
+
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.sqlite.history import SqliteHistory, streams
 from twinlink.store.sqlite.history.compact import MAX_SAMPLES, MAX_SPAN_NS, SMALL, plan_runs
 
 
@@ -42,6 +44,8 @@ async def _reads(history: SqliteHistory) -> dict[str, object]:
         ],
         "downsample": shapes,
         "latest": await history.latest(TWIN, STREAM, None),
+        # The merged block's times hash is the sum of its parts': counted the same, unread.
+        "streams": await history.streams(TWIN),
     }
 
 
@@ -115,3 +119,19 @@ async def test_history_of_twins_that_no_longer_exist_is_swept(history: SqliteHis
     assert await maintenance.sweep_orphans(existing={7}) == [8]
     await maintenance.stop()  # waits for the deletions it started
     assert await history.twin_ids() == {7}
+
+
+async def test_a_merged_block_keeps_the_hash_of_its_times(
+    history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    times = [T + i * 10_000_000 for i in range(3000)]
+    await write_column(history, "x", times, [1.0] * 3000, block=5)  # merged by compaction
+    await write_column(history, "n", times, list(range(3000)), block=3000)  # left alone
+    await history.compact()
+
+    def unread(*_: object) -> int:
+        raise AssertionError("equal times hashes: nothing to read")
+
+    monkeypatch.setattr(streams, "row_count", unread)
+    [stream] = await history.streams(TWIN)
+    assert (stream["samples"], stream["values"]) == (3000, 6000)
