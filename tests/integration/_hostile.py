@@ -171,6 +171,24 @@ def schema_numbers(
             yield from schema_numbers(root, prop, base.get(name), (*path, name))
 
 
+def schema_at(root: dict[str, Any], path: tuple[str | int, ...]) -> dict[str, Any]:
+    """The number schema at `path` (as `schema_numbers` gives it) of a JSON schema."""
+    schema = root
+    for key in path:
+        schema = _number_or_self(root, schema)
+        schema = schema["items"] if isinstance(key, int) else schema["properties"][key]
+    return _number_or_self(root, schema)
+
+
+def _number_or_self(root: dict[str, Any], schema: dict[str, Any]) -> dict[str, Any]:
+    if "$ref" in schema:
+        schema = root["$defs"][schema["$ref"].rsplit("/", 1)[-1]]
+    for option in schema.get("anyOf", []):
+        if "$ref" in option or option.get("type") in ("integer", "number", "object", "array"):
+            return _number_or_self(root, option)
+    return schema
+
+
 def fill_path(template: str, names: dict[str, str]) -> str:
     """A concrete path: each {param} from `names` (by the collection before it, then by
     name), the numeric ones left for the caller."""

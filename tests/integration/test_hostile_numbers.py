@@ -32,6 +32,7 @@ from tests.integration._hostile import (
     numeric_fields,
     numeric_parameters,
     operations,
+    schema_at,
     schema_numbers,
     time_parameters,
     with_value,
@@ -43,6 +44,7 @@ pytestmark = pytest.mark.integration
 # Plain real numbers with no natural bound: a scale and an offset may be any finite value
 # (the exact JSON reader refuses NaN and infinities before they get here).
 UNBOUNDED = {("InputMap", "scale"), ("InputMap", "offset")}
+TIMED = ("_s", "_ms", "_ns", "_hz", "_samples")  # durations, rates and counts of samples
 
 # A body that is valid but for the number under test, for each route whose body model has
 # numeric fields.
@@ -248,6 +250,23 @@ def test_every_numeric_parameter_declares_a_range(openapi: dict[str, Any]) -> No
             if not has_range(schema) and (model, path[-1]) not in UNBOUNDED:
                 unranged.append(f"{op.method} {op.path} body {'.'.join(path)} ({model})")
     assert unranged == [], "numbers without a declared minimum and maximum:\n" + "\n".join(unranged)
+
+
+def test_blueprint_integers_durations_and_rates_declare_a_range(server: Server) -> None:
+    # Thresholds (a trigger's high, low, clear_at, rate_limit) are plain reals: any finite value.
+    with server.admin as admin:
+        blueprints = admin.get("/api/v1/blueprints").json()["blueprints"]
+    unranged = []
+    for blueprint in blueprints:
+        schema = blueprint["params_schema"]
+        for path in schema_numbers(schema, schema, BLUEPRINT_BASES[blueprint["name"]]):
+            field = schema_at(schema, path)
+            name = str(path[-1])
+            if (field.get("type") == "integer" or name.endswith(TIMED)) and not has_range(field):
+                unranged.append(f"{blueprint['name']}: {'.'.join(map(str, path))}")
+    assert unranged == [], "blueprint parameters without a minimum and maximum: " + ", ".join(
+        unranged
+    )
 
 
 def test_extreme_path_and_query_numbers_are_refused_clearly(

@@ -36,6 +36,11 @@ from pydantic import AfterValidator, BaseModel, ConfigDict
 
 P = TypeVar("P", bound=BaseModel)
 
+# Upper bounds for parameters that are durations and rates, so each is declared with a range
+# (in the parameter's JSON schema) and no product of them overflows int64 nanoseconds.
+MAX_SPAN_S = 30 * 24 * 3600.0  # a window, a hop, a step or a hold time: 30 days
+MAX_RATE_HZ = 1e9  # a sample rate: 1 GHz
+
 
 class Params(BaseModel):
     """Base for blueprint parameters: unknown keys are an error, so typos are caught."""

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import Field, field_validator, model_validator
 
-from twinlink.processors.blueprint import Batch, Blueprint, Context, Names, Params
+from twinlink.processors.blueprint import MAX_RATE_HZ, Batch, Blueprint, Context, Names, Params
 
 Array = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]
@@ -35,18 +35,21 @@ class SpectrumParams(Params):
     hop_samples: int | None = Field(
         None,
         ge=1,
+        le=10_000_000,
         description="Samples from the start of one frame to the start of the next; empty: "
         "the frame length (frames side by side). Less overlaps the frames.",
     )
     window: WindowName = Field("hann", description="Window function applied to each frame.")
     sample_rate_hz: float = Field(
         gt=0,
+        le=MAX_RATE_HZ,
         description="Sampling rate in Hz. A signal's values are treated as evenly spaced at "
         "this rate, whatever their timestamps say.",
     )
     bins: int = Field(
         0,
         ge=0,
+        le=65536 // 2 + 1,
         description="Also output the first this many amplitude bins ({signal}.amp.{k}, at "
         "k * df_hz) and the bin width {signal}.df_hz; 0: none.",
     )

@@ -16,6 +16,7 @@ from pydantic import Field, model_validator
 from scipy import signal as sps  # type: ignore[import-untyped]
 
 from twinlink.processors.blueprint import (
+    MAX_RATE_HZ,
     Batch,
     Blueprint,
     BlueprintError,
@@ -40,6 +41,7 @@ class FilterParams(Params):
     )
     sample_rate_hz: float = Field(
         gt=0,
+        le=MAX_RATE_HZ,
         description="The sampling rate the filter is designed for, in Hz. Samples are treated "
         "as evenly spaced at this rate, whatever their timestamps say.",
     )
@@ -56,7 +58,9 @@ class FilterParams(Params):
 
 class CutoffParams(FilterParams):
     cutoff_hz: float = Field(
-        gt=0, description="Cut-off frequency in Hz (-3 dB); below half the sample rate."
+        gt=0,
+        le=MAX_RATE_HZ,
+        description="Cut-off frequency in Hz (-3 dB); below half the sample rate.",
     )
 
     def edges(self) -> list[float]:
@@ -64,9 +68,11 @@ class CutoffParams(FilterParams):
 
 
 class BandParams(FilterParams):
-    low_hz: float = Field(gt=0, description="Lower edge of the band in Hz (-3 dB).")
+    low_hz: float = Field(gt=0, le=MAX_RATE_HZ, description="Lower edge of the band in Hz (-3 dB).")
     high_hz: float = Field(
-        gt=0, description="Upper edge of the band in Hz (-3 dB); below half the sample rate."
+        gt=0,
+        le=MAX_RATE_HZ,
+        description="Upper edge of the band in Hz (-3 dB); below half the sample rate.",
     )
 
     @model_validator(mode="after")

@@ -16,7 +16,7 @@ import fmpy  # type: ignore[import-untyped]
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
-from ..blueprint import Batch, Blueprint, BlueprintError, Context, Params
+from ..blueprint import MAX_SPAN_S, Batch, Blueprint, BlueprintError, Context, Params
 from ..fmuinfo import FLOAT_TYPES, INT_TYPES, FmuError, FmuInfo, FmuVariable, Scalar, inspect_fmu
 from ._fmu_cs import CoSimulation, Engine
 from ._fmu_fmi import ERROR, FATAL, FmuLog, initialize, instantiate, value_for
@@ -43,7 +43,10 @@ class FmuParams(Params):
         "samples", description="Step to each input sample's time, or on a fixed grid."
     )
     step_size_s: float | None = Field(
-        None, gt=0, description="The grid step in seconds (required for step = fixed)."
+        None,
+        gt=0,
+        le=MAX_SPAN_S,
+        description="The grid step in seconds (required for step = fixed).",
     )
     out_of_range: Literal["clamp", "reject"] = Field(
         "clamp", description="Inputs outside their declared min/max: clamp, or skip the sample."
@@ -53,7 +56,10 @@ class FmuParams(Params):
     )
     solver: Literal["CVode", "Euler"] = Field("CVode", description="Model exchange solver.")
     solver_step_s: float | None = Field(
-        None, gt=0, description="Euler step; default: the FMU's default step or 1 ms."
+        None,
+        gt=0,
+        le=MAX_SPAN_S,
+        description="Euler step; default: the FMU's default step or 1 ms.",
     )
     log_level: Literal["off", "errors", "all"] = Field(
         "errors", description="FMU log messages passed on to the processor log."

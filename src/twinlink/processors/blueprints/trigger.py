@@ -9,7 +9,7 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import Field, field_validator, model_validator
 
-from twinlink.processors.blueprint import Batch, Blueprint, Context, Params
+from twinlink.processors.blueprint import MAX_SPAN_S, Batch, Blueprint, Context, Params
 
 Array = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]
@@ -58,7 +58,10 @@ class TriggerParams(Params):
         description="rate mode: clear when |d signal / dt| is below rate_limit times this.",
     )
     min_duration_s: float = Field(
-        0.0, ge=0, description="Raise only once the condition has held this long, in seconds."
+        0.0,
+        ge=0,
+        le=MAX_SPAN_S,
+        description="Raise only once the condition has held this long, in seconds.",
     )
     command: CommandSpec | None = Field(None, description="A command to send on raising.")
     clear_command: CommandSpec | None = Field(None, description="A command to send on clearing.")

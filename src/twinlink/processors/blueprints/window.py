@@ -14,7 +14,15 @@ import numpy as np
 import numpy.typing as npt
 from pydantic import AfterValidator, Field, model_validator
 
-from twinlink.processors.blueprint import Batch, Blueprint, Context, Names, Params, distinct
+from twinlink.processors.blueprint import (
+    MAX_SPAN_S,
+    Batch,
+    Blueprint,
+    Context,
+    Names,
+    Params,
+    distinct,
+)
 
 Array = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]
@@ -39,6 +47,7 @@ class WindowParams(Params):
     window_s: float | None = Field(
         None,
         gt=0,
+        le=MAX_SPAN_S,
         description="Window length in seconds: the window ending at time t holds the values "
         "with t - window_s < time <= t. Set this or window_samples.",
     )
@@ -52,6 +61,7 @@ class WindowParams(Params):
     hop_s: float = Field(
         0.0,
         ge=0,
+        le=MAX_SPAN_S,
         description="Output interval in seconds. 0: an output at every sample (rolling). "
         "Otherwise one output per interval that had samples, at its end (a multiple of hop_s "
         "since the epoch), made when the first sample after it arrives.",
