@@ -45,6 +45,30 @@ export interface StepOptions {
 /** A stretch longer than this many usual spans between samples is held, not measured. */
 const HELD_SPANS = 5;
 
+/** The k-th smallest of `values` (reordering them): quickselect, O(n) on average. */
+function select(values: Float64Array, k: number): number {
+  let lo = 0;
+  let hi = values.length - 1;
+  while (lo < hi) {
+    const pivot = values[(lo + hi) >> 1] as number;
+    let i = lo;
+    let j = hi;
+    while (i <= j) {
+      while ((values[i] as number) < pivot) i++;
+      while ((values[j] as number) > pivot) j--;
+      if (i <= j) {
+        const t = values[i] as number;
+        values[i++] = values[j] as number;
+        values[j--] = t;
+      }
+    }
+    if (k <= j) hi = j;
+    else if (k >= i) lo = i;
+    else break;
+  }
+  return values[k] as number;
+}
+
 /** The usual span of two steps of `xs` (the median): min/max data comes in pairs close in
  * time, one pair per bucket, so a single step would mistake the pairs' gaps for long ones.
  * Null with fewer than three samples. */
@@ -52,99 +76,117 @@ export function usualSpan(xs: ArrayLike<number>): number | null {
   if (xs.length < 3) return null;
   const spans = new Float64Array(xs.length - 2);
   for (let i = 2; i < xs.length; i++) spans[i - 2] = (xs[i] as number) - (xs[i - 2] as number);
-  spans.sort();
-  return spans[spans.length >> 1] as number;
+  return select(spans, spans.length >> 1);
 }
 
-interface Plan {
-  x: number[];
-  y: (number | null)[];
+/** A point a series needs beside its samples: its value from before the view, a null where
+ * its solid line stops for a held stretch, its last value at the view's end. */
+interface Extra {
+  series: number;
+  x: number;
+  y: number | null;
 }
 
-/** One series' points: its samples, a value from before the view at its start, a null where
- * the solid line must stop for a held stretch, and its last value at the end when that hold is
- * short. Held stretches are added to `held`. */
-function planSeries(xs: number[], ys: (number | null | undefined)[], k: number, options: StepOptions, held: Held[]): Plan {
+/** One series: the indices of its samples in `xs`, its extra points (added to `extras`) and
+ * its held stretches (added to `held`). */
+function planSeries(
+  xs: number[],
+  ys: (number | null | undefined)[],
+  k: number,
+  options: StepOptions,
+  held: Held[],
+  extras: Extra[],
+): number[] {
   const hold = options.hold ?? true;
-  const tx: number[] = [];
-  const tv: number[] = [];
+  const samples: number[] = [];
+  const times: number[] = [];
   for (let i = 0; i < xs.length; i++) {
     const v = ys[i];
     if (v !== null && v !== undefined && !Number.isNaN(v)) {
-      tx.push(xs[i] as number);
-      tv.push(v);
+      samples.push(i);
+      times.push(xs[i] as number);
     }
   }
-  const span = usualSpan(tx);
+  const span = usualSpan(times);
   const limit = span === null ? null : HELD_SPANS * span;
   // Without a usual step (too few samples) a hold to or from outside the samples counts as long.
   const isLong = (length: number) => (limit === null ? true : length > limit);
-  const plan: Plan = { x: [], y: [] };
-  const put = (x: number, y: number | null) => {
-    plan.x.push(x);
-    plan.y.push(y);
-  };
+  const valueAt = (n: number) => ys[samples[n] as number] as number;
 
-  const first = tx[0];
+  const first = times[0];
   const before = hold ? options.before?.[k] : undefined;
   if (before && (first === undefined || first > options.start)) {
     const to = first ?? options.end;
-    put(options.start, before.value);
+    extras.push({ series: k, x: options.start, y: before.value });
     if (isLong(to - before.time)) {
       held.push({ series: k, from: options.start, to, value: before.value });
-      if (first !== undefined) put((options.start + first) / 2, null);
+      if (first !== undefined) extras.push({ series: k, x: (options.start + first) / 2, y: null });
     }
   }
-  for (let i = 0; i < tx.length; i++) {
-    const x = tx[i] as number;
-    if (i > 0 && limit !== null && x - (tx[i - 1] as number) > limit) {
-      const from = tx[i - 1] as number;
-      if (hold) held.push({ series: k, from, to: x, value: tv[i - 1] as number });
-      put((from + x) / 2, null);
+  if (limit !== null) {
+    for (let n = 1; n < times.length; n++) {
+      const from = times[n - 1] as number;
+      const x = times[n] as number;
+      if (x - from <= limit) continue;
+      if (hold) held.push({ series: k, from, to: x, value: valueAt(n - 1) });
+      extras.push({ series: k, x: (from + x) / 2, y: null });
     }
-    put(x, tv[i] as number);
   }
-  const last = tx.length - 1;
-  if (hold && last >= 0 && options.end > (tx[last] as number)) {
-    const from = tx[last] as number;
-    const value = tv[last] as number;
+  const last = times.length - 1;
+  if (hold && last >= 0 && options.end > (times[last] as number)) {
+    const from = times[last] as number;
+    const value = valueAt(last);
     if (isLong(options.end - from)) held.push({ series: k, from, to: options.end, value });
-    else put(options.end, value);
+    else extras.push({ series: k, x: options.end, y: value });
   }
-  return plan;
+  return samples;
 }
 
-/** The plans of all series on one shared x (sorted, each x once); undefined where a series
- * has no point. */
-function merge(plans: Plan[]): ChartData {
-  let n = 0;
-  for (const p of plans) n += p.x.length;
-  const all = new Float64Array(n);
-  let k = 0;
-  for (const p of plans) for (const x of p.x) all[k++] = x;
-  all.sort();
-  const x: number[] = [];
-  for (let i = 0; i < all.length; i++) if (i === 0 || all[i] !== all[i - 1]) x.push(all[i] as number);
-  const ys = plans.map((p) => {
-    const y = new Array<number | null | undefined>(x.length).fill(undefined);
-    let j = 0;
-    for (let i = 0; i < p.x.length; i++) {
-      while ((x[j] as number) < (p.x[i] as number)) j++;
-      y[j] = p.y[i];
-    }
-    return y;
-  });
-  return [x, ...ys];
+/** The first index of sorted `xs` whose value is at least `x`. */
+function lowerBound(xs: number[], x: number): number {
+  let lo = 0;
+  let hi = xs.length;
+  while (lo < hi) {
+    const mid = (lo + hi) >>> 1;
+    if ((xs[mid] as number) < x) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
 }
 
-/** The chart frame of `data` (x sorted; null or undefined where a series has no value): each
- * series as steps held to `end`, from its value before `start` when known. Costs
- * O(points · log points); `data` is already thinned to the chart's columns. */
+/** The frame of `data` (x sorted; null or undefined where a series has no value): each series
+ * as steps held to `end`, from its value before `start` when known. O(points) but for the
+ * median step; `data` is already thinned to the chart's columns. */
 export function stepFrame(data: AlignedSeries | ChartData, options: StepOptions): ChartFrame {
   const [xs, ...ys] = data;
   const held: Held[] = [];
-  const plans = ys.map((y, k) => planSeries(xs, y, k, options, held));
-  return { data: merge(plans), held };
+  const extras: Extra[] = [];
+  const samples = ys.map((y, k) => planSeries(xs, y, k, options, held, extras));
+  // One shared x: the xs some series has a sample at, and the extra points, in order.
+  const used = new Uint8Array(xs.length);
+  for (const list of samples) for (const i of list) used[i] = 1;
+  const added = extras.map((e) => e.x).sort((a, b) => a - b);
+  const x: number[] = [];
+  const position = new Int32Array(xs.length);
+  let e = 0;
+  const take = (value: number) => {
+    if (x.length === 0 || (x[x.length - 1] as number) !== value) x.push(value);
+  };
+  for (let i = 0; i < xs.length; i++) {
+    if (!used[i]) continue;
+    const value = xs[i] as number;
+    while (e < added.length && (added[e] as number) < value) take(added[e++] as number);
+    take(value);
+    position[i] = x.length - 1;
+  }
+  while (e < added.length) take(added[e++] as number);
+  const out = ys.map((y, k) => {
+    const line = new Array<number | null | undefined>(x.length).fill(undefined);
+    for (const i of samples[k] as number[]) line[position[i] as number] = y[i];
+    return line;
+  });
+  for (const extra of extras) (out[extra.series] as (number | null | undefined)[])[lowerBound(x, extra.x)] = extra.y;
+  return { data: [x, ...out], held };
 }
 
 /** Whether a frame has anything to draw. */
