@@ -1,4 +1,5 @@
 import { useMemo, useState } from "react";
+import { signalUnits } from "../../api/commands";
 import {
   aggregate,
   downloadExport,
@@ -34,13 +35,12 @@ import {
   toTimeRange,
   type RangeChoice,
 } from "../../components/charts/historyData";
-import { frameIsEmpty } from "../../components/charts/steps";
 import { assignScales, magnitude } from "../../components/charts/scales";
+import { frameIsEmpty } from "../../components/charts/steps";
 import { TimeChart } from "../../components/charts/TimeChart";
 import { Empty, ErrorMessage, Loading } from "../../components/common/Status";
 import { useApi } from "../../hooks/useApi";
 import { useTwin } from "./context";
-import { signalUnits } from "../../api/commands";
 
 export function HistoryTab() {
   const { slug, twin } = useTwin();
