@@ -77,8 +77,9 @@ class SeriesCache:
 
     def get(self, key: Key) -> Entry | None:
         for layer in reversed(self._layers):
-            if key in layer.entries:
-                return layer.entries[key]
+            entries = layer.entries
+            if entries and key in entries:  # most rounds stage no series at all
+                return entries[key]
         return self._committed.get(key)
 
     def signals(self, twin_id: int, stream: str) -> int:

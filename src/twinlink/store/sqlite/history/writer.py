@@ -38,7 +38,7 @@ from twinlink.store.sqlite.history.codec import (
     split_signals,
 )
 from twinlink.store.sqlite.history.compact import SMALL, Compacted, compact_series
-from twinlink.store.sqlite.history.series_cache import SeriesCache
+from twinlink.store.sqlite.history.series_cache import Entry, Key, SeriesCache
 
 log = logging.getLogger("twinlink.history")
 
@@ -292,11 +292,16 @@ class HistoryWriter:
             if cursor.rowcount == 0:
                 return False
         columns = split_signals(batch.times, batch.values)
-        self._check_signals(batch, columns)
+        get = self._cache.get
+        known = [get((batch.twin_id, batch.stream, signal)) for signal in columns]
+        if None in known:
+            self._check_signals(
+                batch, [s for s, k in zip(columns, known, strict=True) if k is None]
+            )
         rows = []
-        for signal, (times, values) in columns.items():
+        for (signal, (times, values)), entry in zip(columns.items(), known, strict=True):
             block = encode(signal, times, values)
-            series_id = self._series_id(conn, batch.twin_id, batch.stream, signal, block)
+            series_id = self._series_id(conn, (batch.twin_id, batch.stream, signal), entry, block)
             rows.append(block_row(series_id, block))
             ends.append((series_id, block.t1, block.last_v))
             if block.n < SMALL:
@@ -304,12 +309,9 @@ class HistoryWriter:
         conn.executemany(INSERT_BLOCK, rows)
         return True
 
-    def _check_signals(self, batch: SampleBatch, columns: dict[str, Any]) -> None:
-        """Refuse the whole batch when it would give its stream too many signals."""
+    def _check_signals(self, batch: SampleBatch, new: list[str]) -> None:
+        """Refuse the whole batch when its `new` signals would give its stream too many."""
         twin_id, stream = batch.twin_id, batch.stream
-        new = [s for s in columns if self._cache.get((twin_id, stream, s)) is None]
-        if not new:
-            return
         total = self._cache.signals(twin_id, stream) + len(new)
         limit = self.max_signals_per_stream
         if total <= limit:
@@ -324,15 +326,14 @@ class HistoryWriter:
         )
 
     def _series_id(
-        self, conn: sqlite3.Connection, twin_id: int, stream: str, signal: str, block: Block
+        self, conn: sqlite3.Connection, key: Key, known: Entry | None, block: Block
     ) -> int:
-        key = (twin_id, stream, signal)
+        """The series of `key` (`known`: its cached entry), made or widened for `block`."""
         span = block.t1 - block.t0
-        known = self._cache.get(key)
         if known is None:
             cursor = conn.execute(
                 "INSERT INTO series (twin_id, stream, signal, max_span_ns) VALUES (?, ?, ?, ?)",
-                (twin_id, stream, signal, span),
+                (*key, span),
             )
             assert cursor.lastrowid is not None
             self._cache.add(key, cursor.lastrowid, span)
