@@ -105,27 +105,27 @@ async def start_crane_services(host: str = "127.0.0.1") -> DemoCrane | None:
 
 async def start_demo_crane(
     services: Services, demo: DemoCrane
-) -> tuple[str | None, Callable[[], Awaitable[None]]]:
+) -> tuple[str | None, Callable[[], Awaitable[None]] | None]:
     """Configure the gateway's credentials for the crane's services and its OPC UA connector;
-    a line for the welcome text (None without the crane's twin) and the function that stops
-    the services."""
+    a line for the welcome text and the function that stops the services. Without the crane's
+    twin (examples without it) the services are stopped at once: (None, None)."""
     from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
 
     crane = demo.crane
     admin = await services.store.get_user_by_name("admin")
     twin = await services.registry.get_twin(CRANE_SLUG)
-    principal = None if admin is None or twin is None else Principal(user=admin)
+    if admin is None or twin is None:
+        await crane.stop()
+        return None, None
+    principal = Principal(user=admin)
 
     async def stop() -> None:
-        if principal is not None:
-            await _disable_plc(services, principal)
+        await _disable_plc(services, principal)
         # The gateway's kept-alive connections to the services would each hold their
         # servers' graceful shutdown until it times out: close them first.
         services.gateway.pool.close()
         await crane.stop()
 
-    if principal is None:
-        return None, stop
     for name, auth in gateway_auth(crane).items():
         patch = {"auth": auth, "health_path": HEALTH_PATHS.get(name)}
         await services.gateway.update(principal, CRANE_SLUG, name, patch)
