@@ -283,11 +283,6 @@ def test_extreme_path_and_query_numbers_are_refused_clearly(
     assert fuzzer.failures == [], "\n".join(fuzzer.failures)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="history/params.py parse_time: int() of a start or end of over 4 300 digits raises "
-    "ValueError, a 500 (the history routes are another engineer's; remove this mark with it)",
-)
 def test_extreme_times_and_durations_are_refused_clearly(
     openapi: dict[str, Any], target: Target, fuzzer: Fuzzer
 ) -> None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 from twinlink.history.params import (
@@ -122,3 +124,19 @@ def test_human_durations_and_times() -> None:
     ]
     assert iso_ns(T2024) == "2024-01-01T00:00:00Z"
     assert iso_ns(T2024 + 120_000_000) == "2024-01-01T00:00:00.12Z"
+
+
+@pytest.mark.parametrize(
+    ("fn", "args"),
+    [
+        (parse_time, ("9" * 5000, "start", 0, 0)),
+        (parse_time, ("²", "start", 0, 0)),
+        (parse_duration, ("1" * 400 + ".5s", "bucket")),
+        (parse_duration, ("1" * 5000 + "s", "bucket")),
+        (parse_cursor, ("9" * 5000 + ".1",)),
+    ],
+)
+def test_absurd_numbers_are_refused_with_a_short_message(fn: Any, args: tuple[Any, ...]) -> None:
+    with pytest.raises(QueryError) as err:
+        fn(*args)
+    assert len(str(err.value)) < 300

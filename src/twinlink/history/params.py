@@ -27,7 +27,10 @@ UNIT_NS = {
     "d": 86_400_000_000_000,
     "w": 604_800_000_000_000,
 }
-_DURATION = re.compile(r"^(\d+(?:\.\d+)?)\s*(ns|us|ms|s|m|h|d|w)$")
+# ASCII digits, and no more than int64 needs: `int()` of 4 300 digits raises, and
+# `float()` of 400 gives inf.
+_DURATION = re.compile(r"^([0-9]{1,20}(?:\.[0-9]{1,20})?)\s*(ns|us|ms|s|m|h|d|w)$")
+_INTEGER = re.compile(r"^-?[0-9]{1,30}$")
 _ISO = re.compile(
     r"^(?P<base>\d{4}-\d\d-\d\d(?:[T ]\d\d:\d\d(?::\d\d)?)?)"
     r"(?:\.(?P<fraction>\d{1,9}))?(?P<zone>Z|z|[+-]\d\d(?::?\d\d)?)?$"
@@ -45,7 +48,7 @@ def parse_duration(text: str, name: str) -> int:
     """A positive duration in ns."""
     match = _DURATION.match(text.strip())
     if match is None:
-        raise QueryError(f"`{name}` {text!r} is not a duration: use {DURATION_HELP}")
+        raise QueryError(f"`{name}` {_short(text)!r} is not a duration: use {DURATION_HELP}")
     number, unit = match.groups()
     ns = round(float(number) * UNIT_NS[unit]) if "." in number else int(number) * UNIT_NS[unit]
     if not 0 < ns < _INT64:
@@ -60,9 +63,11 @@ def parse_time(text: str | None, name: str, now_ns: int, default: int) -> int:
     text = text.strip()
     if text == "now":
         return now_ns
-    if text.startswith("-") and not text[1:].isdigit():
+    if text.startswith("-") and not _INTEGER.match(text):
         return now_ns - parse_duration(text[1:], name)
     if text.lstrip("-").isdigit():
+        if not _INTEGER.match(text):
+            raise QueryError(f"`{name}` {_short(text)} is not a time: use {TIME_HELP}")
         value = int(text)
         if value >= _INT64:
             raise QueryError(f"`{name}` {text} is after 2262: use ns since the epoch")
@@ -136,13 +141,18 @@ def parse_cursor(text: str | None) -> tuple[int, int] | None:
     if text is None or not text.strip():
         return None
     time_text, _, rank_text = text.strip().partition(".")
-    if time_text.lstrip("-").isdigit() and rank_text.isdigit():
+    if _INTEGER.match(time_text) and _INTEGER.match(rank_text) and rank_text[0] != "-":
         key = int(time_text), int(rank_text)
         if -_INT64 <= key[0] < _INT64 and key[1] < _INT64:
             return key
     raise QueryError(
-        f"`cursor` {text!r} is not a cursor: pass `next_cursor` of the previous page as is"
+        f"`cursor` {_short(text)!r} is not a cursor: pass `next_cursor` of the previous page as is"
     )
+
+
+def _short(text: str) -> str:
+    """A parameter as sent, shortened for a message."""
+    return text if len(text) <= 40 else f"{text[:30]}... ({len(text)} characters)"
 
 
 def human_ns(ns: int) -> str:
