@@ -59,8 +59,10 @@ async def test_a_device_added_or_removed_counts_at_once(server: Server) -> None:
         with server.admin as admin:
             r = admin.post(f"/api/v1/twins/{slug}/devices", json={"name": "spare"})
             assert r.status_code == 201, r.text
-        refused = assert_problem(await post_command(server, server.admin_token, slug), 422)
-        assert "several devices (rig, spare)" in refused["detail"]
+        # Two devices, both connected: a command that names none has no target.
+        async with FakeDevice(server, r.json()["token"]):
+            refused = assert_problem(await post_command(server, server.admin_token, slug), 422)
+            assert "several devices (rig, spare)" in refused["detail"]
         with server.admin as admin:
             assert admin.delete(f"/api/v1/twins/{slug}/devices/spare").status_code == 200
         r = await post_command(server, server.admin_token, slug)
