@@ -8,7 +8,9 @@ stream's samples can be counted without reading its blocks (`times_hash`).
 
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -96,7 +98,7 @@ def split_signals(
 
 
 def kind_of(values: list[Value]) -> str:
-    kinds = {type(v) for v in values}
+    kinds = {type(values[0])} if len(values) == 1 else set(map(type, values))
     if kinds == {int}:
         return "i"
     if kinds == {bool}:
@@ -106,8 +108,70 @@ def kind_of(values: list[Value]) -> str:
     return "j"
 
 
+# Below this many samples a block is packed with plain Python: numpy's cost per call (about
+# 1 us, a dozen calls a block) is most of the work for the one-sample batches of slow
+# devices (a 2 000-device fleet at 2 samples/s writes 8 000 such blocks a second). The
+# results are the same bytes and numbers: numpy also sums fewer than 8 values in order.
+SMALL_BLOCK = 8
+_M64 = (1 << 64) - 1
+_PACK = {"i": "q", "f": "d"}
+
+
+def _mix(t: int) -> int:
+    x = (t + _MIX[0]) & _M64
+    x = ((x ^ (x >> 30)) * _MIX[1]) & _M64
+    x = ((x ^ (x >> 27)) * _MIX[2]) & _M64
+    return x ^ (x >> 31)
+
+
+def _encode_small(signal: str, kind: str, times: list[int], values: list[Value]) -> Block:
+    """`encode` of fewer than SMALL_BLOCK samples, without numpy."""
+    n = len(times)
+    if n > 1 and any(a > b for a, b in pairwise(times)):
+        order = sorted(range(n), key=times.__getitem__)  # stable, as numpy's argsort
+        times = [times[i] for i in order]
+        values = [values[i] for i in order]
+    vmin = vmax = vsum = tmin = tmax = None
+    if kind == "j":
+        blob = orjson.dumps(values)
+    else:
+        floats = [float(v) for v in values]
+        blob = bytes(values) if kind == "b" else struct.pack(f"<{n}{_PACK[kind]}", *values)  # type: ignore[arg-type]
+        if n == 1:
+            vmin = vmax = floats[0]
+            vsum = 0.0 + vmin  # as numpy sums: -0.0 becomes 0.0
+            tmin = tmax = times[0]
+        else:
+            vsum = 0.0
+            for x in floats:
+                vsum += x
+            low = min(range(n), key=floats.__getitem__)  # the first of equals, as argmin
+            high = max(range(n), key=floats.__getitem__)
+            vmin, vmax, tmin, tmax = floats[low], floats[high], times[low], times[high]
+    return Block(
+        signal=signal,
+        t0=times[0],
+        t1=times[-1],
+        n=n,
+        kind=kind,
+        vmin=vmin,
+        vmax=vmax,
+        vsum=vsum,
+        first_v=values[0],
+        last_v=values[-1],
+        times=struct.pack(f"<{n}q", *times),
+        vals=blob,
+        tmin=tmin,
+        tmax=tmax,
+        times_hash=(_mix(times[0] & _M64) if n == 1 else sum(_mix(t & _M64) for t in times))
+        & _HASH_MASK,
+    )
+
+
 def encode(signal: str, times: list[int], values: list[Value]) -> Block:
     kind = kind_of(values)
+    if len(times) < SMALL_BLOCK:
+        return _encode_small(signal, kind, times, values)
     t = np.asarray(times, dtype=TIME_DTYPE)
     order = None
     if t.size > 1 and bool(np.any(t[1:] < t[:-1])):
