@@ -26,6 +26,7 @@ from twinlink.store.sqlite.history.codec import (
 MAX_SAMPLES = 10_000
 MAX_SPAN_NS = 60 * 10**9
 SMALL = MAX_SAMPLES // 4  # blocks at least this big are left alone
+MIN_RUN = 4  # neighbours merged only when it makes at least this many rows one
 
 
 @dataclass(slots=True)
@@ -62,7 +63,9 @@ def plan_runs(
 
 
 def compact_series(conn: sqlite3.Connection, series_id: int) -> Compacted:
-    """Merge the runs of small blocks of one series (call inside a write transaction)."""
+    """Merge the runs of small blocks of one series (call inside a write transaction); runs
+    of fewer than MIN_RUN blocks are left as they are (a slow device's staged blocks, one
+    every half minute, are worth little merging)."""
     rows = conn.execute(
         "SELECT rowid, t0, t1, n FROM blocks WHERE series_id = ? ORDER BY t0, rowid",
         (series_id,),
@@ -70,6 +73,8 @@ def compact_series(conn: sqlite3.Connection, series_id: int) -> Compacted:
     done = Compacted()
     signal = ""
     for run in plan_runs(rows):
+        if len(run) < MIN_RUN:
+            continue
         times, values = _read_run(conn, run)
         block = encode(signal, times, values)
         conn.execute(
@@ -97,10 +102,17 @@ def _read_run(conn: sqlite3.Connection, rowids: list[int]) -> tuple[list[int], l
             rowids,
         )
     }
+    # In the run's order, so samples with equal times keep their arrival order.
+    blocks = [found[rowid] for rowid in rowids]
+    kinds = {kind for kind, _, _ in blocks}
+    if len(kinds) == 1 and "j" not in kinds:  # the usual case: one decode for the whole run
+        kind = kinds.pop()
+        times_blob = b"".join(b[1] for b in blocks)
+        values_blob = b"".join(b[2] for b in blocks)
+        return decode_times(times_blob).tolist(), decode_values(kind, values_blob).tolist()
     times: list[int] = []
     values: list[Any] = []
-    # In the run's order, so samples with equal times keep their arrival order.
-    for kind, time_blob, value_blob in (found[rowid] for rowid in rowids):
+    for kind, time_blob, value_blob in blocks:
         times.extend(decode_times(time_blob).tolist())
         values.extend(decode_values(kind, value_blob).tolist())
     return times, values
