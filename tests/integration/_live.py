@@ -78,19 +78,28 @@ def twin_id(server: Server, slug: str) -> int:
 
 
 def stored_values(server: Server, slug: str, signal: str) -> list[Any]:
-    """Every stored value of one signal of twin `slug` in block order, read straight from
-    the history file (read-only), so storage is checked independently of the query API."""
+    """Every stored value of one signal of twin `slug` in storage order, read straight from
+    the history file (read-only), so storage is checked independently of the query API: its
+    blocks by time, then its small batches still staged (newer than any of its blocks)."""
+    import orjson
+
     from twinlink.store.sqlite.history.codec import decode_values
 
+    path, twin = server.data_dir / "history.db", twin_id(server, slug)
     rows = _read(
-        server.data_dir / "history.db",
+        path,
         "SELECT kind, vals FROM blocks JOIN series ON series.id = blocks.series_id "
         "WHERE twin_id = ? AND signal = ? ORDER BY t0, blocks.rowid",
-        twin_id(server, slug),
+        twin,
         signal,
     )
-    return [
+    values = [
         v.item() if hasattr(v, "item") else v
         for kind, blob in rows
         for v in decode_values(kind, blob)
     ]
+    for (body,) in _read(path, "SELECT body FROM staged WHERE twin_id = ? ORDER BY id", twin):
+        for _, name, _, staged in orjson.loads(body):
+            if name == signal:
+                values.extend(staged)
+    return values

@@ -8,8 +8,15 @@ import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
-from twinlink.store.sqlite.history import SqliteHistory, streams
+from twinlink.store.sqlite.history import SqliteHistory, staging, streams
 from twinlink.store.sqlite.history.compact import MAX_SAMPLES, MAX_SPAN_NS, SMALL, plan_runs
+
+
+@pytest.fixture(autouse=True)
+def blocks_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """These tests count blocks or statements of batches written as blocks: no batch is
+    staged (test_history_staging.py covers staged batches)."""
+    monkeypatch.setattr(staging, "STAGE_BELOW", 0)
 
 
 def _blocks(history: SqliteHistory, signal: str) -> list[tuple[int, int, int, str]]:

@@ -18,7 +18,7 @@ import pytest
 from tests.unit._history import STREAM, TWIN, S, T, write
 from tests.unit._history import history as history  # fixture
 from twinlink.domain.samples import Value
-from twinlink.store.sqlite.history import SqliteHistory, budget, reader, scan
+from twinlink.store.sqlite.history import SqliteHistory, budget, reader, scan, staging
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 Batch = list[tuple[int, dict[str, Value]]]
@@ -115,6 +115,14 @@ async def test_one_batch_of_many_signals_reads_back_whole(wide: SqliteHistory, n
     ]
     streams = await wide.streams(TWIN)
     assert (streams[0]["samples"], streams[0]["values"]) == (3, 3 * n)
+
+
+@pytest.fixture(autouse=True)
+def blocks_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The reference orders equal times as blocks written batch by batch are read (by the
+    block's first time, then arrival); staged batches are joined into blocks in arrival
+    order (test_history_staging.py), so none is staged here."""
+    monkeypatch.setattr(staging, "STAGE_BELOW", 0)
 
 
 @pytest.fixture

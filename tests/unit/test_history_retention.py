@@ -13,9 +13,16 @@ from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
 from twinlink.domain.samples import SampleBatch
 from twinlink.history.maintenance import DAY_NS, HistoryMaintenance
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.sqlite.history import SqliteHistory, staging
 from twinlink.store.sqlite.history import writer as writer_module
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
+
+
+@pytest.fixture(autouse=True)
+def blocks_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """These tests count blocks or statements of batches written as blocks: no batch is
+    staged (test_history_staging.py covers staged batches)."""
+    monkeypatch.setattr(staging, "STAGE_BELOW", 0)
 
 
 def count(history: SqliteHistory, sql: str) -> int:

@@ -16,7 +16,7 @@ import pytest
 
 from twinlink.domain.errors import TooManySignalsError
 from twinlink.domain.samples import SampleBatch, Value
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.sqlite.history import SqliteHistory, staging
 from twinlink.store.sqlite.history.codec import (
     decode_times,
     decode_values,
@@ -205,6 +205,13 @@ def latest(path: Path, twin_id: int = 1, signal: str = "x") -> tuple[int, Any]:
 
 def block_count(path: Path) -> int:
     return int(rows(path, "SELECT count(*) FROM blocks")[0][0])
+
+
+@pytest.fixture(autouse=True)
+def blocks_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """These tests look at the blocks each batch makes: no batch is staged (small batches
+    make theirs later, test_history_staging.py)."""
+    monkeypatch.setattr(staging, "STAGE_BELOW", 0)
 
 
 @pytest.fixture

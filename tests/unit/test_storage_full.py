@@ -26,9 +26,18 @@ from twinlink.ingest.service import IngestService
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite import db as db_module
 from twinlink.store.sqlite.faults import StorageFaults, translate
+from twinlink.store.sqlite.history import staging
 from twinlink.store.sqlite.history import writer as writer_module
 from twinlink.store.sqlite.history.codec import decode_values
 from twinlink.store.sqlite.history.writer import HistoryWriter
+
+
+@pytest.fixture(autouse=True)
+def blocks_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """These tests count blocks or statements of batches written as blocks: no batch is
+    staged (test_history_staging.py covers staged batches)."""
+    monkeypatch.setattr(staging, "STAGE_BELOW", 0)
+
 
 T = 1_704_067_200 * 10**9
 DEVICE = 5

@@ -13,10 +13,12 @@ from functools import partial
 from pathlib import Path
 from typing import Any, TypeVar
 
+from twinlink.domain.errors import StorageError
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import retention
 from twinlink.store.sqlite.history.aggregate import Aggregated, aggregate
+from twinlink.store.sqlite.history.blocks import MAX_SIGNALS_PER_STREAM
 from twinlink.store.sqlite.history.budget import ReadBudget, ReadLimits
 from twinlink.store.sqlite.history.compact import Compacted
 from twinlink.store.sqlite.history.downsample import Downsampled, downsample
@@ -25,13 +27,14 @@ from twinlink.store.sqlite.history.merge import SamplePage, sample_page
 from twinlink.store.sqlite.history.queries import data_extent, latest_values, select_series
 from twinlink.store.sqlite.history.reader import HistoryReader
 from twinlink.store.sqlite.history.streams import stream_summaries
-from twinlink.store.sqlite.history.writer import (
-    MAX_SIGNALS_PER_STREAM,
-    HistoryWriter,
-    WriteFn,
-)
+from twinlink.store.sqlite.history.writer import HistoryWriter, WriteFn
 
 T = TypeVar("T")
+# About 10-20 ms of work a round: 2 000 tiny blocks (8 us a block), or 50 series (each
+# costs its statements, some 0.3 ms, however few blocks it has).
+COMPACT_ROUND_BLOCKS = 2_000
+COMPACT_ROUND_SERIES = 50
+
 __all__ = ["Aggregated", "Downsampled", "ReadLimits", "SamplePage", "SqliteHistory"]
 
 
@@ -71,34 +74,70 @@ class SqliteHistory:
         return {int(r[0]) for r in rows}
 
     async def compact(self) -> Compacted:
-        """Merge small blocks of the series that got them since the last call, one series
-        per group commit (see compact.py)."""
+        """Merge small blocks of the series that got them since the last call, as many
+        series per group commit as make about `COMPACT_ROUND_BLOCKS` blocks or
+        `COMPACT_ROUND_SERIES` series (compact.py): each commit costs an fsync, and a device
+        fleet gives thousands of such series, but no round may hold up ingest for long."""
         total = Compacted()
-        for series_id in sorted(self.writer.take_small_blocks()):
-            done: Compacted = await self.writer.write(
-                partial(self.writer.compact, series_id=series_id)
-            )
+        pending = sorted(self.writer.take_small_blocks())
+        while pending:
+            done, pending = await self.writer.write(partial(self._compact_some, series=pending))
             total.blocks_before += done.blocks_before
             total.blocks_after += done.blocks_after
         return total
 
+    def _compact_some(
+        self, conn: sqlite3.Connection, series: list[int]
+    ) -> tuple[Compacted, list[int]]:
+        """Compact the first of `series` (a `write` fn) until about COMPACT_ROUND_BLOCKS
+        blocks were merged or COMPACT_ROUND_SERIES looked at; the rest are left for the next
+        round, so ingest never waits long for one."""
+        done = Compacted()
+        taken = 0
+        while (
+            taken < min(len(series), COMPACT_ROUND_SERIES)
+            and done.blocks_before < COMPACT_ROUND_BLOCKS
+        ):
+            one = self.writer.compact(conn, series[taken])
+            taken += 1
+            done.blocks_before += one.blocks_before
+            done.blocks_after += one.blocks_after
+        return done, series[taken:]
+
     # -- reads: each under a budget of time and values (ReadLimits) ---------------------
 
-    async def _read(self, fn: Callable[[sqlite3.Connection, ReadBudget], T]) -> T:
+    async def settle(self, twin_id: int | None) -> None:
+        """Move the twin's staged samples (of every twin when None) into blocks, so a read
+        sees every acknowledged sample (staging.py). Nothing to do for most reads. When the
+        disk refuses the move (full), the read goes on without the staged samples: reads keep
+        working while writes cannot."""
+        while self.writer.staged(twin_id):
+            try:
+                moved = await self.writer.write(partial(self.writer.flush_staged, twin_id=twin_id))
+            except StorageError:  # counted and logged by the store
+                return
+            if not moved:
+                return
+
+    async def _read(self, twin_id: int, fn: Callable[[sqlite3.Connection, ReadBudget], T]) -> T:
+        await self.settle(twin_id)
         budget = self.limits.query()
         return await self.reader.run(lambda conn: fn(conn, budget), budget)
 
     async def streams(self, twin_id: int) -> list[dict[str, Any]]:
         """The twin's streams: samples, values, first and last time, and their signals
         (kind, values, first and last time); see streams.py."""
-        return await self._read(lambda conn, budget: stream_summaries(conn, twin_id, budget))
+        return await self._read(
+            twin_id, lambda conn, budget: stream_summaries(conn, twin_id, budget)
+        )
 
     async def latest(
         self, twin_id: int, stream: str, signals: list[str] | None
     ) -> dict[str, dict[str, Any]]:
         """{signal: {time, value}} of the newest value of each signal."""
         return await self._read(
-            lambda conn, _: latest_values(conn, select_series(conn, twin_id, stream, signals))
+            twin_id,
+            lambda conn, _: latest_values(conn, select_series(conn, twin_id, stream, signals)),
         )
 
     async def extent(
@@ -106,7 +145,8 @@ class SqliteHistory:
     ) -> tuple[int, int] | None:
         """(first, last) time of the stored samples of these signals; None when none."""
         return await self._read(
-            lambda conn, _: data_extent(conn, select_series(conn, twin_id, stream, signals))
+            twin_id,
+            lambda conn, _: data_extent(conn, select_series(conn, twin_id, stream, signals)),
         )
 
     async def samples(
@@ -126,7 +166,7 @@ class SqliteHistory:
             found = select_series(conn, twin_id, stream, signals)
             return sample_page(conn, found, start, end, limit, after, budget)
 
-        return await self._read(run)
+        return await self._read(twin_id, run)
 
     async def aggregate(
         self,
@@ -145,7 +185,7 @@ class SqliteHistory:
             found = select_series(conn, twin_id, stream, signals)
             return aggregate(conn, found, start, end, width, fns, budget)
 
-        return await self._read(run)
+        return await self._read(twin_id, run)
 
     async def downsample(
         self,
@@ -164,7 +204,7 @@ class SqliteHistory:
             found = select_series(conn, twin_id, stream, signals)
             return downsample(conn, found, start, end, points, method, budget)
 
-        return await self._read(run)
+        return await self._read(twin_id, run)
 
     async def export(
         self,
@@ -179,7 +219,9 @@ class SqliteHistory:
         """The signal names, and the range as `fmt` text in pieces. The series are looked up
         first, so an unknown stream or signal fails before anything is sent. The pieces stop
         (ReadBudgetError) when the export runs over its time budget."""
-        series = await self._read(lambda conn, _: select_series(conn, twin_id, stream, signals))
+        series = await self._read(
+            twin_id, lambda conn, _: select_series(conn, twin_id, stream, signals)
+        )
         budget = self.limits.export()
         pieces: AsyncIterator[bytes] = self.reader.stream(
             lambda conn: export_pieces(conn, series, start, end, fmt, time_format, budget),
@@ -202,6 +244,7 @@ class SqliteHistory:
     async def delete_before(self, cutoff_ns: int, chunk: int = retention.CHUNK) -> int:
         """Delete the samples older than the cutoff (whole blocks whose last sample is older,
         and latest values older); returns the number of blocks deleted."""
+        await self.settle(None)
         blocks = await self._repeat(
             partial(retention.delete_blocks_before, cutoff_ns=cutoff_ns, chunk=chunk), chunk, True
         )
@@ -218,13 +261,14 @@ class SqliteHistory:
 
     async def delete_twin(self, twin_id: int, chunk: int = retention.CHUNK) -> int:
         """Delete all history of a twin; returns the number of blocks deleted."""
+        await self.settle(twin_id)
         blocks = await self._repeat(
             partial(retention.delete_twin_blocks, twin_id=twin_id, chunk=chunk), chunk
         )
 
         def drop_series(conn: Any) -> int:
             count = retention.delete_twin_series(conn, twin_id)
-            self.writer.forget_series(twin_id)
+            self.writer.forget_series(twin_id)  # and batches staged meanwhile
             return count
 
         await self.writer.write(drop_series)

@@ -21,32 +21,21 @@ import time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
-import orjson
-
-from twinlink.domain.errors import StorageError, TooManySignalsError
+from twinlink.domain.errors import StorageError
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.sqlite.db import JOURNAL_SIZE_LIMIT, migrate
 from twinlink.store.sqlite.faults import StorageFaults, translate
-from twinlink.store.sqlite.history.codec import (
-    INSERT_BLOCK,
-    Block,
-    block_row,
-    encode,
-    split_signals,
-)
-from twinlink.store.sqlite.history.compact import SMALL, Compacted, compact_series
-from twinlink.store.sqlite.history.series_cache import Entry, Key, SeriesCache
+from twinlink.store.sqlite.history import staging
+from twinlink.store.sqlite.history.blocks import MAX_SIGNALS_PER_STREAM, BlockWriter
+from twinlink.store.sqlite.history.compact import Compacted
 
 log = logging.getLogger("twinlink.history")
 
 BUSY_TIMEOUT_MS = 10_000
-# Distinct signals a stream may have (TWINLINK_MAX_SIGNALS_PER_STREAM): far above any real
-# device's, low enough that a device sending a new name with every sample by mistake is
-# stopped before its stream is too wide to read back in one piece.
-MAX_SIGNALS_PER_STREAM = 1_000
 WAL_WAIT_S = 60.0  # how long a deletion waits for readers to let the WAL be emptied
 WAL_POLL_S = 0.5
 
@@ -86,16 +75,21 @@ class HistoryWriter:
     ) -> None:
         self.path = path
         self.synchronous = synchronous
-        self.max_signals_per_stream = max_signals_per_stream
         self.wal_limit = JOURNAL_SIZE_LIMIT  # what a deletion lets the WAL grow to
         self.faults = faults or StorageFaults()
         self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="twinlink-history")
         self._conn: sqlite3.Connection | None = None
-        self._cache = SeriesCache()
+        self.blocks = BlockWriter(max_signals_per_stream)
+        self._cache = self.blocks.cache
+        self._cache.hot_rows = staging.TWIN_FLUSH_ROWS
         self._pending: list[_Append | _Write] = []
         self._wake = asyncio.Event()
         self._task: asyncio.Task[None] | None = None
         self._closing = False
+        self._flushing = False  # a move of staged rows is queued or running
+        self._draining = False  # moving every staged row, a round at a time
+        self._next_flush = 0.0  # no move of staged rows before this (monotonic) time
+        self._staged_since: float | None = None  # when rows were first seen staged
         self.commits = 0
 
     async def open(self) -> None:
@@ -107,9 +101,7 @@ class HistoryWriter:
     def _open(self) -> None:
         self._conn = open_connection(self.path, self.synchronous)
         migrate(self._conn, folder_name="history_migrations")
-        self._cache.load(
-            self._conn.execute("SELECT id, twin_id, stream, signal, max_span_ns FROM series")
-        )
+        self.blocks.load(self._conn)
 
     async def close(self) -> None:
         # Let the running round finish and its callers get their answers, then store
@@ -121,6 +113,7 @@ class HistoryWriter:
             self._task = None
         if self._pending:
             await self._commit_round()
+        await self._flush_at_close()
         loop = asyncio.get_running_loop()
         await loop.run_in_executor(self._executor, self._close)
         self._executor.shutdown(wait=True)
@@ -194,9 +187,62 @@ class HistoryWriter:
 
     async def _run(self) -> None:
         while not self._closing or self._pending:
-            await self._wake.wait()
+            if self._cache.staged() and not self._flushing:
+                # Staged rows are moved after FLUSH_AFTER_S even when nothing else comes.
+                with contextlib.suppress(TimeoutError):
+                    await asyncio.wait_for(self._wake.wait(), staging.FLUSH_AFTER_S)
+            else:
+                await self._wake.wait()
             self._wake.clear()
+            self._flush_when_due()
             await self._commit_round()
+
+    # -- staged batches (staging.py) --------------------------------------------------------
+
+    def staged(self, twin_id: int | None = None) -> int:
+        """Rows staged (committed) for a twin, or for all twins when None."""
+        return self._cache.staged(twin_id)
+
+    def _flush_when_due(self) -> None:
+        """Queue a move of staged rows when a twin has many, when many wait in all, or when
+        the oldest waited long enough (staging.py)."""
+        total = self._cache.staged()
+        if not total:
+            self._staged_since, self._draining = None, False
+            return
+        now = time.monotonic()
+        if self._staged_since is None:
+            self._staged_since = now
+        if self._flushing or now < self._next_flush:
+            return
+        twin_id = next(iter(self._cache.hot), None)
+        if twin_id is None and not self._draining:
+            if total < staging.FLUSH_ROWS and now - self._staged_since < staging.FLUSH_AFTER_S:
+                return
+            self._draining = True  # round after round until none is staged
+        self._flushing = True
+        future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
+        future.add_done_callback(self._flushed)
+        self._pending.append(_Write(partial(self.flush_staged, twin_id=twin_id), future))
+
+    def _flushed(self, future: asyncio.Future[Any]) -> None:
+        self._flushing = False
+        if future.cancelled() or future.exception() is not None:
+            self._draining = False  # a disk failure, counted and logged by the round: the
+            return  # rows stay staged and are tried again when due again
+        # The next one after a gap, so a drain of many is spread over the commits.
+        self._next_flush = time.monotonic() + staging.FLUSH_GAP_S
+        asyncio.get_running_loop().call_later(staging.FLUSH_GAP_S, self._wake.set)
+
+    async def _flush_at_close(self) -> None:
+        """Move every staged row into blocks before closing, so a stopped server leaves none
+        (a full disk may leave some: they are moved after the next start)."""
+        while self._cache.staged():
+            future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
+            self._pending.append(_Write(self.flush_staged, future))
+            await self._commit_round()
+            if future.exception() is not None or not future.result():
+                return
 
     async def _commit_round(self) -> None:
         items, self._pending = self._pending, []
@@ -235,7 +281,7 @@ class HistoryWriter:
             conn.execute("BEGIN IMMEDIATE")
             for item in items:
                 results.append(self._commit_item(conn, item, latest))
-            self._write_latest(conn, latest)
+            self.blocks.write_latest(conn, latest)
             conn.execute("COMMIT")
         except BaseException as err:
             # Nothing of the round was stored, so nothing it cached may stay (series ids
@@ -261,7 +307,11 @@ class HistoryWriter:
         self._cache.begin()
         ends: list[tuple[int, int, Value]] = []
         try:
-            result = item.fn(conn) if isinstance(item, _Write) else self._store(conn, item, ends)
+            result = (
+                item.fn(conn)
+                if isinstance(item, _Write)
+                else self.blocks.store(conn, item.batch, item.device_id, ends)
+            )
             conn.execute("RELEASE item")
         except Exception as err:
             self._cache.rollback()
@@ -280,98 +330,36 @@ class HistoryWriter:
                 latest[series_id] = (t1, last)
         return result
 
-    def _store(
-        self, conn: sqlite3.Connection, item: _Append, ends: list[tuple[int, int, Value]]
-    ) -> bool:
-        batch = item.batch
-        if item.device_id is not None and batch.seq is not None:
-            cursor = conn.execute(
-                "INSERT OR IGNORE INTO ingested (device_id, seq, at_ns) VALUES (?, ?, ?)",
-                (item.device_id, batch.seq, batch.received_ns),
-            )
-            if cursor.rowcount == 0:
-                return False
-        columns = split_signals(batch.times, batch.values)
-        get = self._cache.get
-        known = [get((batch.twin_id, batch.stream, signal)) for signal in columns]
-        if None in known:
-            self._check_signals(
-                batch, [s for s, k in zip(columns, known, strict=True) if k is None]
-            )
-        rows = []
-        for (signal, (times, values)), entry in zip(columns.items(), known, strict=True):
-            block = encode(signal, times, values)
-            series_id = self._series_id(conn, (batch.twin_id, batch.stream, signal), entry, block)
-            rows.append(block_row(series_id, block))
-            ends.append((series_id, block.t1, block.last_v))
-            if block.n < SMALL:
-                self._cache.note_small(series_id)
-        conn.executemany(INSERT_BLOCK, rows)
-        return True
+    # -- what the rounds write (blocks.py) --------------------------------------------------
 
-    def _check_signals(self, batch: SampleBatch, new: list[str]) -> None:
-        """Refuse the whole batch when its `new` signals would give its stream too many."""
-        twin_id, stream = batch.twin_id, batch.stream
-        total = self._cache.signals(twin_id, stream) + len(new)
-        limit = self.max_signals_per_stream
-        if total <= limit:
-            return
-        named = ", ".join(repr(s) for s in new[:3]) + (
-            f" and {len(new) - 3} more" if len(new) > 3 else ""
-        )
-        raise TooManySignalsError(
-            f"this batch would give stream {stream!r} of twin {batch.twin!r} {total} signals "
-            f"(new: {named}); a stream may have at most {limit} "
-            "(the server's TWINLINK_MAX_SIGNALS_PER_STREAM). The batch was not stored."
-        )
+    @property
+    def max_signals_per_stream(self) -> int:
+        return self.blocks.max_signals_per_stream
 
-    def _series_id(
-        self, conn: sqlite3.Connection, key: Key, known: Entry | None, block: Block
-    ) -> int:
-        """The series of `key` (`known`: its cached entry), made or widened for `block`."""
-        span = block.t1 - block.t0
-        if known is None:
-            cursor = conn.execute(
-                "INSERT INTO series (twin_id, stream, signal, max_span_ns) VALUES (?, ?, ?, ?)",
-                (*key, span),
-            )
-            assert cursor.lastrowid is not None
-            self._cache.add(key, cursor.lastrowid, span)
-            return cursor.lastrowid
-        series_id, max_span = known
-        if span > max_span:
-            conn.execute("UPDATE series SET max_span_ns = ? WHERE id = ?", (span, series_id))
-            self._cache.widen(key, series_id, span)
-        return series_id
+    @max_signals_per_stream.setter
+    def max_signals_per_stream(self, limit: int) -> None:
+        self.blocks.max_signals_per_stream = limit
 
-    @staticmethod
-    def _write_latest(conn: sqlite3.Connection, latest: dict[int, tuple[int, Value]]) -> None:
-        conn.executemany(
-            "INSERT INTO latest (series_id, t, value) VALUES (?, ?, ?) "
-            "ON CONFLICT (series_id) DO UPDATE SET t = excluded.t, value = excluded.value "
-            "WHERE excluded.t >= latest.t",
-            [(sid, t, orjson.dumps(v).decode()) for sid, (t, v) in latest.items()],
-        )
+    def flush_staged(
+        self, conn: sqlite3.Connection, twin_id: int | None = None,
+        limit: int = staging.FLUSH_ROUND_ROWS,
+    ) -> int:  # fmt: skip
+        """Move staged rows into blocks (a `write` fn); see BlockWriter.flush_staged."""
+        return self.blocks.flush_staged(conn, twin_id, limit)
 
     def compact(self, conn: sqlite3.Connection, series_id: int) -> Compacted:
-        """Merge the series' small blocks (a `write` fn); keeps the cached span in step."""
-        done = compact_series(conn, series_id)
-        if done.max_span_ns:
-            row = conn.execute(
-                "SELECT twin_id, stream, signal, max_span_ns FROM series WHERE id = ?",
-                (series_id,),
-            ).fetchone()
-            if row is not None:
-                self._cache.widen((row[0], row[1], row[2]), series_id, row[3])
-        return done
+        """Merge the series' small blocks (a `write` fn)."""
+        return self.blocks.compact(conn, series_id)
 
     def take_small_blocks(self) -> set[int]:
         """The series that got small blocks (committed) since the last call."""
-        return self._cache.take_small()
+        return self.blocks.cache.take_small()
 
     def forget_series(self, twin_id: int) -> None:
-        """Drop cached ids of a twin whose series were deleted (call from a `write` fn)."""
-        self._cache.forget_twin(twin_id)
+        """Drop cached ids of a twin whose series were deleted, and its staged batches
+        (call from a `write` fn)."""
+        assert self._conn is not None
+        self.blocks.forget_series(self._conn, twin_id)
 
 
 def _size(path: Path) -> int:
