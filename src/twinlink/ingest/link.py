@@ -75,18 +75,21 @@ class DeviceLink:
         self.session = session
         self.ingest = ingest
         self.hub = hub
-        self.in_flight = asyncio.Semaphore(MAX_IN_FLIGHT)
-        self.tasks: set[asyncio.Task[None]] = set()
+        self.tasks: set[asyncio.Task[None]] = set()  # batches being stored
+        self._room: asyncio.Future[None] | None = None  # set when `tasks` has room again
 
     async def dispatch(self, message: dict[str, Any]) -> None:
         kind = message.get("type")
         if kind == "samples":  # errors about a batch name it by `seq`
             # Storing runs beside reading, so batches that arrive together share a commit;
-            # the semaphore stops reading when too many are waiting (back-pressure).
-            await self.in_flight.acquire()
+            # reading stops while too many are waiting (back-pressure). A count of the tasks,
+            # not a semaphore: this runs for every batch of every device.
+            while len(self.tasks) >= MAX_IN_FLIGHT:
+                self._room = asyncio.get_running_loop().create_future()
+                await self._room
             task = asyncio.create_task(self.store(message))
             self.tasks.add(task)
-            task.add_done_callback(self.tasks.discard)
+            task.add_done_callback(self._stored)
         elif kind == "ping":
             self.session.send({"type": "pong", "server_time": time.time_ns()})
         elif isinstance(kind, str) and kind in self.hub.handlers:
@@ -115,8 +118,11 @@ class DeviceLink:
             self.error("the batch could not be stored; send it again", seq=seq, retry=True)
         else:
             self.session.send(ack.message())
-        finally:
-            self.in_flight.release()
+
+    def _stored(self, task: asyncio.Task[None]) -> None:
+        self.tasks.discard(task)
+        if self._room is not None and not self._room.done():
+            self._room.set_result(None)
 
     def error(
         self, text: str, seq: Any = None, retry: bool = False, op: str = "", ref: Any = None
