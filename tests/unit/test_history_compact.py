@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import sqlite3
+from typing import Any
 
 import pytest
 
+import twinlink.store.sqlite.history as history_module
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
 from twinlink.store.sqlite.history import SqliteHistory, staging, streams
@@ -142,3 +144,25 @@ async def test_a_merged_block_keeps_the_hash_of_its_times(
     monkeypatch.setattr(streams, "row_count", unread)
     [stream] = await history.streams(TWIN)
     assert (stream["samples"], stream["values"]) == (3000, 6000)
+
+
+async def test_a_long_series_is_compacted_over_several_rounds(
+    history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(history_module, "COMPACT_ROUND_SAMPLES", 500)
+    rounds = 0
+    write = history.writer.write
+
+    async def counted(fn: Any) -> Any:
+        nonlocal rounds
+        rounds += 1
+        return await write(fn)
+
+    monkeypatch.setattr(history.writer, "write", counted)
+    times = [T + i * 10_000_000 for i in range(15_000)]  # 100 Hz, 150 s, in blocks of 100
+    await write_column(history, "x", times, [float(i) for i in range(15_000)], block=100)
+    before = await _reads(history)
+    done = await history.compact()
+    assert (done.blocks_before, done.blocks_after) == (150, 3)  # runs of 60 s
+    assert rounds == 3  # a run a round: each is more than 500 samples
+    assert await _reads(history) == before

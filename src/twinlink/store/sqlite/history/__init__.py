@@ -30,10 +30,12 @@ from twinlink.store.sqlite.history.streams import stream_summaries
 from twinlink.store.sqlite.history.writer import HistoryWriter, WriteFn
 
 T = TypeVar("T")
-# About 10-20 ms of work a round: 2 000 tiny blocks (8 us a block), or 50 series (each
-# costs its statements, some 0.3 ms, however few blocks it has).
+# About 10-30 ms of work a round: 2 000 tiny blocks (8 us a block), 50 series (each costs
+# its statements, some 0.3 ms, however few blocks it has) or 100 000 samples decoded and
+# encoded again.
 COMPACT_ROUND_BLOCKS = 2_000
 COMPACT_ROUND_SERIES = 50
+COMPACT_ROUND_SAMPLES = 100_000
 
 __all__ = ["Aggregated", "Downsampled", "ReadLimits", "SamplePage", "SqliteHistory"]
 
@@ -75,9 +77,10 @@ class SqliteHistory:
 
     async def compact(self) -> Compacted:
         """Merge small blocks of the series that got them since the last call, as many
-        series per group commit as make about `COMPACT_ROUND_BLOCKS` blocks or
-        `COMPACT_ROUND_SERIES` series (compact.py): each commit costs an fsync, and a device
-        fleet gives thousands of such series, but no round may hold up ingest for long."""
+        series per group commit as make about `COMPACT_ROUND_BLOCKS` blocks,
+        `COMPACT_ROUND_SERIES` series or `COMPACT_ROUND_SAMPLES` samples (compact.py): each
+        commit costs an fsync, and a device fleet gives thousands of such series, but no
+        round may hold up ingest for long."""
         total = Compacted()
         pending = sorted(self.writer.take_small_blocks())
         while pending:
@@ -97,11 +100,14 @@ class SqliteHistory:
         while (
             taken < min(len(series), COMPACT_ROUND_SERIES)
             and done.blocks_before < COMPACT_ROUND_BLOCKS
+            and done.samples < COMPACT_ROUND_SAMPLES
         ):
-            one = self.writer.compact(conn, series[taken])
-            taken += 1
+            one = self.writer.compact(conn, series[taken], COMPACT_ROUND_SAMPLES - done.samples)
+            if not one.more:  # else the series goes on in the next round
+                taken += 1
             done.blocks_before += one.blocks_before
             done.blocks_after += one.blocks_after
+            done.samples += one.samples
         return done, series[taken:]
 
     # -- reads: each under a budget of time and values (ReadLimits) ---------------------

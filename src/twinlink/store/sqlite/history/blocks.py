@@ -128,9 +128,10 @@ class BlockWriter:
             [(sid, t, orjson.dumps(v).decode()) for sid, (t, v) in latest.items()],
         )
 
-    def compact(self, conn: sqlite3.Connection, series_id: int) -> Compacted:
-        """Merge the series' small blocks (a `write` fn); keeps the cached span in step."""
-        done = compact_series(conn, series_id)
+    def compact(self, conn: sqlite3.Connection, series_id: int, budget: int = 10**18) -> Compacted:
+        """Merge the series' small blocks, up to `budget` samples (compact.py); keeps the
+        cached span in step."""
+        done = compact_series(conn, series_id, budget)
         if done.max_span_ns:
             row = conn.execute(
                 "SELECT twin_id, stream, signal, max_span_ns FROM series WHERE id = ?",

@@ -34,6 +34,8 @@ class Compacted:
     blocks_before: int = 0
     blocks_after: int = 0
     max_span_ns: int = 0
+    samples: int = 0  # in the blocks merged
+    more: bool = False  # runs left for another call (the budget was spent)
 
 
 def plan_runs(
@@ -62,10 +64,13 @@ def plan_runs(
     return runs
 
 
-def compact_series(conn: sqlite3.Connection, series_id: int) -> Compacted:
+def compact_series(
+    conn: sqlite3.Connection, series_id: int, budget: int = 10**18
+) -> Compacted:
     """Merge the runs of small blocks of one series (call inside a write transaction); runs
     of fewer than MIN_RUN blocks are left as they are (a slow device's staged blocks, one
-    every half minute, are worth little merging)."""
+    every half minute, are worth little merging). Stops once `budget` samples were merged,
+    with `more` set when runs are left."""
     rows = conn.execute(
         "SELECT rowid, t0, t1, n FROM blocks WHERE series_id = ? ORDER BY t0, rowid",
         (series_id,),
@@ -75,6 +80,9 @@ def compact_series(conn: sqlite3.Connection, series_id: int) -> Compacted:
     for run in plan_runs(rows):
         if len(run) < MIN_RUN:
             continue
+        if done.samples >= budget:
+            done.more = True
+            break
         times, values = _read_run(conn, run)
         block = encode(signal, times, values)
         conn.execute(
@@ -84,6 +92,7 @@ def compact_series(conn: sqlite3.Connection, series_id: int) -> Compacted:
         conn.execute(INSERT_BLOCK, block_row(series_id, block))
         done.blocks_before += len(run)
         done.blocks_after += 1
+        done.samples += block.n
         done.max_span_ns = max(done.max_span_ns, block.t1 - block.t0)
     if done.max_span_ns:
         conn.execute(

@@ -347,9 +347,9 @@ class HistoryWriter:
         """Move staged rows into blocks (a `write` fn); see BlockWriter.flush_staged."""
         return self.blocks.flush_staged(conn, twin_id, limit)
 
-    def compact(self, conn: sqlite3.Connection, series_id: int) -> Compacted:
-        """Merge the series' small blocks (a `write` fn)."""
-        return self.blocks.compact(conn, series_id)
+    def compact(self, conn: sqlite3.Connection, series_id: int, budget: int = 10**18) -> Compacted:
+        """Merge the series' small blocks, up to `budget` samples (a `write` fn)."""
+        return self.blocks.compact(conn, series_id, budget)
 
     def take_small_blocks(self) -> set[int]:
         """The series that got small blocks (committed) since the last call."""
