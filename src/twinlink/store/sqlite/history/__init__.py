@@ -31,11 +31,11 @@ from twinlink.store.sqlite.history.writer import HistoryWriter, WriteFn
 
 T = TypeVar("T")
 # About 10-30 ms of work a round: 2 000 tiny blocks (8 us a block), 50 series (each costs
-# its statements, some 0.3 ms, however few blocks it has) or 100 000 samples decoded and
+# its statements, some 0.3 ms, however few blocks it has) or 20 000 samples decoded and
 # encoded again.
 COMPACT_ROUND_BLOCKS = 2_000
 COMPACT_ROUND_SERIES = 50
-COMPACT_ROUND_SAMPLES = 100_000
+COMPACT_ROUND_SAMPLES = 20_000
 
 __all__ = ["Aggregated", "Downsampled", "ReadLimits", "SamplePage", "SqliteHistory"]
 

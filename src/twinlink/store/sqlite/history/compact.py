@@ -64,9 +64,7 @@ def plan_runs(
     return runs
 
 
-def compact_series(
-    conn: sqlite3.Connection, series_id: int, budget: int = 10**18
-) -> Compacted:
+def compact_series(conn: sqlite3.Connection, series_id: int, budget: int = 10**18) -> Compacted:
     """Merge the runs of small blocks of one series (call inside a write transaction); runs
     of fewer than MIN_RUN blocks are left as they are (a slow device's staged blocks, one
     every half minute, are worth little merging). Stops once `budget` samples were merged,
