@@ -64,6 +64,13 @@ from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
 
 log = logging.getLogger("twinlink.app")
 
+# The collector's young generation at 10 000 objects instead of 700, and a full collection
+# after 100 middle ones instead of 10: a server with thousands of device connections holds
+# hundreds of thousands of objects, and with Python's defaults their scans took a third of
+# the event loop under 4 000 small batches a second, growing with the backlog they caused
+# (bench/live.py, steady fleet; docs/decisions/0010-gc-and-small-batches.md).
+GC_THRESHOLDS = (10_000, 10, 100)
+
 
 @dataclass(slots=True)
 class Services:
@@ -229,6 +236,7 @@ def create_app(
         # collector's scans, which cost the hot paths (orjson.loads of a device batch took
         # 2.6 us a sample with a server-sized heap, 1.1 us frozen; bench/processors.py).
         gc.freeze()
+        gc.set_threshold(*GC_THRESHOLDS)
         log.info("ready", extra={"event": "ready", "url": settings.base_url})
         try:
             yield
