@@ -21,7 +21,6 @@ from tests.integration._mqtt import (
     require_mosquitto,
     until,
 )
-from twinlink.ingest.mqtt import connection
 from twinlink.ingest.mqtt import packets as mq
 
 pytestmark = pytest.mark.integration
@@ -266,7 +265,7 @@ async def test_a_newer_connection_of_the_device_takes_over(platform: MqttPlatfor
 async def test_a_revoked_token_ends_the_connection(
     platform: MqttPlatform, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(connection, "RECHECK_TOKEN_S", 0.05)
+    monkeypatch.setattr(platform.services.devices, "recheck_token_s", 0.05)
     device = Paho(platform.port, "rig", platform.token, 5)
     await device.connect()
     try:

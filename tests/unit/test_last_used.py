@@ -136,6 +136,9 @@ class Wire:
 class Devices:
     recheck_token_s = 0.001
 
+    def recheck_delay(self) -> float:
+        return self.recheck_token_s
+
     def __init__(self, error: Exception | None) -> None:
         self.error = error
         self.checks = 0
@@ -169,3 +172,12 @@ async def test_a_token_check_that_fails_closes_the_connection(error: Exception, 
     assert wire.closed[0] == code and devices.checks == 3
     if code == 1011:
         assert wire.closed[1] == "the device token could not be checked again; reconnect"
+
+
+def test_token_rechecks_are_spread_around_the_interval() -> None:
+    from twinlink.auth.devices import DeviceService
+
+    service = DeviceService(store=None, registry=None, recheck_token_s=60.0)  # type: ignore[arg-type]
+    delays = [service.recheck_delay() for _ in range(2000)]
+    assert all(45.0 <= d <= 75.0 for d in delays)
+    assert max(delays) - min(delays) > 20.0  # not all at once after a mass reconnect

@@ -81,7 +81,7 @@ async def _recheck_token(session: DeviceSession, devices: DeviceService, token: 
     (4401). So does a check that fails for another reason (1011): a connection whose token
     cannot be checked is not left open unchecked."""
     while not session.closed.is_set():
-        await asyncio.sleep(devices.recheck_token_s)
+        await asyncio.sleep(devices.recheck_delay())
         try:
             await devices.authenticate(token)
         except AuthError as err:

@@ -37,7 +37,6 @@ if TYPE_CHECKING:
 log = logging.getLogger("twinlink.mqtt")
 
 CONNECT_TIMEOUT_S = 10.0
-RECHECK_TOKEN_S = 60.0
 READ_BYTES = 256 * 1024
 SETTLE_S = 5.0  # at shutdown, how long to wait for the acks of what was handed on
 MAX_ROUTES = 64  # topics remembered per connection
@@ -151,10 +150,11 @@ class DeviceConnection:
         """A token revoked (or a device deleted) while connected ends the connection."""
         assert self.bridge is not None and self.bridge.link is not None
         session = self.bridge.link.session
+        devices = self.listener.platform.devices
         while not session.closed.is_set():
-            await asyncio.sleep(RECHECK_TOKEN_S)
+            await asyncio.sleep(devices.recheck_delay())
             try:
-                await self.listener.platform.devices.authenticate(token)
+                await devices.authenticate(token)
             except AuthError as err:
                 await session.close(4401, str(err))
             except Exception as err:  # not left open unchecked (as on the device WebSocket)
