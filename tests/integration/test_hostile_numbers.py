@@ -269,6 +269,20 @@ def test_blueprint_integers_durations_and_rates_declare_a_range(server: Server) 
     )
 
 
+def test_connector_config_numbers_declare_a_range(server: Server) -> None:
+    with server.admin as admin:
+        kinds = admin.get("/api/v1/connector-kinds").json()["kinds"]
+    unranged = []
+    for kind in kinds:
+        schema = kind["schema"]
+        for path in schema_numbers(schema, schema, CONNECTOR_BASES[kind["kind"]]):
+            if not has_range(schema_at(schema, path)):
+                unranged.append(f"{kind['kind']}: {'.'.join(map(str, path))}")
+    assert unranged == [], "connector settings without a minimum and maximum: " + ", ".join(
+        unranged
+    )
+
+
 def test_extreme_path_and_query_numbers_are_refused_clearly(
     openapi: dict[str, Any], target: Target, fuzzer: Fuzzer
 ) -> None:

@@ -24,6 +24,8 @@ SecurityPolicy = Literal["None", "Basic256Sha256", "Aes128_Sha256_RsaOaep", "Aes
 SecurityMode = Literal["Sign", "SignAndEncrypt"]
 DEFAULT_APPLICATION_URI = "urn:twinlink:opcua-client"
 MAX_QUEUE_SIZE = 10_000
+HOUR_S = 3600.0  # the longest timeout or wait a setting may ask for
+DAY_MS = 86_400_000.0  # the longest sampling or publishing interval
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,10 +80,16 @@ class SignalMapping(_Strict):
     node: str = Field(description="Node id or browse path of the variable.")
     signal: str = Field(description="Signal name its values are stored under.")
     sampling_interval_ms: float | None = Field(
-        None, ge=0, description="How often the server samples the node; default: the connector's."
+        None,
+        ge=0,
+        le=DAY_MS,
+        description="How often the server samples the node; default: the connector's.",
     )
     deadband: float = Field(
-        0.0, ge=0, description="Report a change only when it exceeds this (0: every change)."
+        0.0,
+        ge=0,
+        le=1e300,
+        description="Report a change only when it exceeds this (0: every change).",
     )
     deadband_type: Literal["absolute", "percent"] = Field(
         "absolute",
@@ -160,10 +168,10 @@ class OpcUaConfig(_Strict):
         f"{DEFAULT_APPLICATION_URI}.",
     )
     publishing_interval_ms: float = Field(
-        100.0, gt=0, description="How often the server sends the changes it collected."
+        100.0, gt=0, le=DAY_MS, description="How often the server sends the changes it collected."
     )
     sampling_interval_ms: float = Field(
-        100.0, ge=0, description="Default sampling interval of each node (0: fastest)."
+        100.0, ge=0, le=DAY_MS, description="Default sampling interval of each node (0: fastest)."
     )
     batch_max_samples: int = Field(
         1000, ge=1, le=100_000, description="A batch goes to the platform at this many samples..."
@@ -174,17 +182,23 @@ class OpcUaConfig(_Strict):
     request_timeout_s: float = Field(
         5.0,
         gt=0,
+        le=HOUR_S,
         description="Timeout of each OPC UA request; a method call may take until its command "
         "expires.",
     )
     watchdog_interval_s: float = Field(
         1.0,
         gt=0,
+        le=HOUR_S,
         description="How often the connection is checked by reading the server's state (a "
         "check not answered within request_timeout_s ends the session).",
     )
-    reconnect_initial_s: float = Field(1.0, gt=0, description="First wait before reconnecting.")
-    reconnect_max_s: float = Field(30.0, gt=0, description="Longest wait between attempts.")
+    reconnect_initial_s: float = Field(
+        1.0, gt=0, le=HOUR_S, description="First wait before reconnecting."
+    )
+    reconnect_max_s: float = Field(
+        30.0, gt=0, le=HOUR_S, description="Longest wait between attempts."
+    )
 
     @field_validator("url")
     @classmethod
