@@ -181,3 +181,31 @@ def test_token_rechecks_are_spread_around_the_interval() -> None:
     delays = [service.recheck_delay() for _ in range(2000)]
     assert all(45.0 <= d <= 75.0 for d in delays)
     assert max(delays) - min(delays) > 20.0  # not all at once after a mass reconnect
+
+
+async def test_a_token_that_cannot_be_read_closes_the_new_connection_with_a_reason() -> None:
+    from types import SimpleNamespace
+
+    from twinlink.api.device_ws import device_socket
+    from twinlink.domain.errors import StorageError
+
+    class Unreadable:
+        async def authenticate(self, token: str) -> Device:
+            raise StorageError("the disk failed while reading the token; try again")
+
+    closed: list[tuple[int, str]] = []
+
+    class Socket:
+        def __init__(self) -> None:
+            self.headers = {"authorization": "Bearer tld_x"}
+            services = SimpleNamespace(devices=Unreadable())
+            self.app = SimpleNamespace(state=SimpleNamespace(services=services))
+
+        async def accept(self) -> None:
+            return None
+
+        async def close(self, code: int, reason: str) -> None:
+            closed.append((code, reason))
+
+    await device_socket(Socket())  # type: ignore[arg-type]
+    assert closed == [(1011, "the disk failed while reading the token; try again")]

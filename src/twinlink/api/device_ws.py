@@ -14,7 +14,7 @@ from twinlink.api.devices import ThisDevice
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthError
-from twinlink.domain.errors import DocumentTooLargeError
+from twinlink.domain.errors import DocumentTooLargeError, StorageError
 from twinlink.domain.jsontext import JsonTextError, fits_int64, loads
 from twinlink.domain.samples import BatchError, big_int_outside_samples
 from twinlink.ingest.link import DeviceLink, connect_device, disconnect_device
@@ -66,6 +66,9 @@ async def device_socket(websocket: WebSocket) -> None:
         device = await services.devices.authenticate(token)
     except AuthError as err:
         await websocket.close(code=4401, reason=str(err))
+        return
+    except StorageError as err:  # the token could not be read: say so, the device retries
+        await websocket.close(code=1011, reason=str(err)[:120])
         return
     link = await connect_device(services.device_hub, services.ingest, device, websocket)
     recheck = asyncio.create_task(_recheck_token(link.session, services.devices, token))
