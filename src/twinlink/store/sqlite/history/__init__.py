@@ -7,6 +7,7 @@ on their own threads and connections (`reader.py`). Times are ns since the epoch
 
 from __future__ import annotations
 
+import asyncio
 import sqlite3
 from collections.abc import AsyncIterator, Callable
 from functools import partial
@@ -30,12 +31,14 @@ from twinlink.store.sqlite.history.streams import stream_summaries
 from twinlink.store.sqlite.history.writer import HistoryWriter, WriteFn
 
 T = TypeVar("T")
-# About 10-30 ms of work a round: 2 000 tiny blocks (8 us a block), 50 series (each costs
-# its statements, some 0.3 ms, however few blocks it has) or 20 000 samples decoded and
-# encoded again.
+# About 10-20 ms of work a round: 2 000 tiny blocks (8 us a block), 50 series (each costs
+# its statements, some 0.3 ms, however few blocks it has) or 10 000 samples decoded and
+# encoded again; and a gap after each, so a backlog of merges (after a fast device's large
+# batches) is spread over the commits instead of holding up the acks behind it.
 COMPACT_ROUND_BLOCKS = 2_000
 COMPACT_ROUND_SERIES = 50
-COMPACT_ROUND_SAMPLES = 20_000
+COMPACT_ROUND_SAMPLES = 10_000
+COMPACT_GAP_S = 0.02
 
 __all__ = ["Aggregated", "Downsampled", "ReadLimits", "SamplePage", "SqliteHistory"]
 
@@ -87,6 +90,8 @@ class SqliteHistory:
             done, pending = await self.writer.write(partial(self._compact_some, series=pending))
             total.blocks_before += done.blocks_before
             total.blocks_after += done.blocks_after
+            if pending:
+                await asyncio.sleep(COMPACT_GAP_S)
         return total
 
     def _compact_some(
