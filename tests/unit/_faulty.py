@@ -4,7 +4,12 @@ for the tests of what the stores do then. Everything else goes to the real conne
 from __future__ import annotations
 
 import sqlite3
+from pathlib import Path
 from typing import Any
+
+import pytest
+
+from twinlink.store.sqlite.history import writer as writer_module
 
 
 def disk_error(code: int = sqlite3.SQLITE_FULL) -> sqlite3.OperationalError:
@@ -63,3 +68,16 @@ class FaultyConnection:
         if (self.whole or sql == "COMMIT") and self.conn.in_transaction:
             self.conn.execute("ROLLBACK")
         raise disk_error(self.code)
+
+
+def wrap_writer_connections(monkeypatch: pytest.MonkeyPatch) -> list[FaultyConnection]:
+    """Make the history writer open FaultyConnections (disarmed); the list gets each one."""
+    made: list[FaultyConnection] = []
+    real = writer_module.open_connection
+
+    def connect(path: Path, synchronous: str) -> Any:
+        made.append(FaultyConnection(real(path, synchronous)))
+        return made[-1]
+
+    monkeypatch.setattr(writer_module, "open_connection", connect)
+    return made

@@ -16,13 +16,12 @@ from typing import Any
 import orjson
 import pytest
 
-from tests.unit._faulty import FaultyConnection
+from tests.unit._faulty import FaultyConnection, wrap_writer_connections
 from tests.unit._history import STREAM, TWIN, S, T, write
 from tests.unit._history import history as history  # fixture
 from twinlink.domain.errors import StorageError
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.sqlite.history import SqliteHistory, staging
-from twinlink.store.sqlite.history import writer as writer_module
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 DEVICE = 3
@@ -246,15 +245,8 @@ async def test_deleting_a_twin_deletes_its_staged_batches(history: SqliteHistory
 
 @pytest.fixture
 def faulty(monkeypatch: pytest.MonkeyPatch) -> list[FaultyConnection]:
-    made: list[FaultyConnection] = []
-    real = writer_module.open_connection
-
-    def connect(path: Path, synchronous: str) -> Any:
-        made.append(FaultyConnection(real(path, synchronous)))
-        return made[-1]
-
-    monkeypatch.setattr(writer_module, "open_connection", connect)
-    return made
+    """The writer's connections, each wrapped in a FaultyConnection (disarmed)."""
+    return wrap_writer_connections(monkeypatch)
 
 
 def one(signal: str, value: float, seq: int) -> SampleBatch:

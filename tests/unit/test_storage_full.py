@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from tests.unit._faulty import FaultyConnection, disk_error
+from tests.unit._faulty import FaultyConnection, disk_error, wrap_writer_connections
 from twinlink.commands.db import WriteBehind
 from twinlink.commands.model import CommandRecord
 from twinlink.domain.errors import StorageError, StorageFullError, TooManySignalsError
@@ -27,7 +27,6 @@ from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite import db as db_module
 from twinlink.store.sqlite.faults import StorageFaults, translate
 from twinlink.store.sqlite.history import staging
-from twinlink.store.sqlite.history import writer as writer_module
 from twinlink.store.sqlite.history.codec import decode_values
 from twinlink.store.sqlite.history.writer import HistoryWriter
 
@@ -68,15 +67,7 @@ def stored(path: Path) -> dict[str, list[float]]:
 @pytest.fixture
 def faulty(monkeypatch: pytest.MonkeyPatch) -> list[FaultyConnection]:
     """The writer's connections, each wrapped in a FaultyConnection (disarmed)."""
-    made: list[FaultyConnection] = []
-    real = writer_module.open_connection
-
-    def connect(path: Path, synchronous: str) -> Any:
-        made.append(FaultyConnection(real(path, synchronous)))
-        return made[-1]
-
-    monkeypatch.setattr(writer_module, "open_connection", connect)
-    return made
+    return wrap_writer_connections(monkeypatch)
 
 
 def mark(conn: sqlite3.Connection) -> str:
