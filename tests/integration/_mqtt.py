@@ -25,9 +25,9 @@ from twinlink.app import Services, build_services, start_services, stop_services
 from twinlink.auth.rights import Principal
 from twinlink.config import Settings
 from twinlink.domain.errors import NotFoundError
+from twinlink.domain.records import Device
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.ingest.mqtt import MqttService
-from twinlink.store.records import Device
 
 WAIT_S = 10.0
 MIN_TIME, MAX_TIME = -(2**63), 2**63 - 1

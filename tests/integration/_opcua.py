@@ -26,9 +26,9 @@ from twinlink.connectors.base import LinkHost
 from twinlink.connectors.opcua import OpcUaConnector
 from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
 from twinlink.crane.plant import AXES, CranePlant
+from twinlink.domain.records import Device, TwinRecord
 from twinlink.domain.samples import SampleBatch
 from twinlink.registry.documents import parse_documents
-from twinlink.store.records import Device, TwinRecord
 
 # One crane server per test module (it takes a second to start and one to stop); each test
 # has its own platform, and its own source times (`stamp()`).

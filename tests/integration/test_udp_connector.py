@@ -23,9 +23,9 @@ from twinlink.bus import samples_subject
 from twinlink.config import Settings
 from twinlink.connectors.base import ConnectorError, LinkHost
 from twinlink.connectors.udp import UdpConnector
+from twinlink.domain.records import Device
 from twinlink.domain.samples import SampleBatch
 from twinlink.domain.yamlsource import SourceDocument
-from twinlink.store.records import Device
 
 pytestmark = pytest.mark.integration
 

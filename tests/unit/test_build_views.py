@@ -6,6 +6,7 @@ import orjson
 import pytest
 
 from twinlink.domain.document import validate_part
+from twinlink.domain.records import Edge, TwinRecord
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.build import (
     declared_edges,
@@ -16,7 +17,6 @@ from twinlink.registry.build import (
 )
 from twinlink.registry.readback import is_view_of
 from twinlink.registry.views import declared_entries, relation_entries, render_document
-from twinlink.store.records import Edge, TwinRecord
 
 
 def part(data: dict) -> object:  # type: ignore[type-arg]

@@ -6,8 +6,8 @@ import asyncio
 
 import orjson
 
+from twinlink.domain.records import Device
 from twinlink.ingest.sessions import DeviceSession
-from twinlink.store.records import Device
 
 
 class Wire:

@@ -18,9 +18,9 @@ from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError, AuthService
 from twinlink.domain.errors import StorageFullError
+from twinlink.domain.records import Device, SearchRow, TwinWrite
 from twinlink.ingest.sessions import DeviceSession
 from twinlink.registry.service import RegistryService
-from twinlink.store.records import Device, SearchRow, TwinWrite
 from twinlink.store.sqlite import SqliteStore
 
 

@@ -12,12 +12,12 @@ from twinlink.auth.service import AuthError
 from twinlink.bus import MemoryBus, samples_subject
 from twinlink.domain.errors import NotFoundError
 from twinlink.domain.jsontext import int64_problem
+from twinlink.domain.records import TwinRecord, User
 from twinlink.domain.samples import SampleBatch
 from twinlink.live import protocol
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
 from twinlink.live.session import LiveSession
-from twinlink.store.records import TwinRecord, User
 
 T0 = 1_732_200_000_000_000_000
 USER = User(id=1, username="alice", is_admin=False, groups=[], created_ns=0)

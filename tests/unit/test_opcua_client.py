@@ -25,8 +25,8 @@ from twinlink.connectors.opcua_endpoints import (
     checked_server_certificate,
 )
 from twinlink.connectors.opcua_session import FailedNode
+from twinlink.domain.records import Device
 from twinlink.ingest.link import DeviceLink
-from twinlink.store.records import Device
 
 URL = "opc.tcp://plc.example:4840/"
 

@@ -3,9 +3,9 @@ from __future__ import annotations
 import pytest
 
 from twinlink.auth.rights import ANONYMOUS, Principal, has_role, may_see_level
+from twinlink.domain.records import User
 from twinlink.domain.slug import SLUG, slug_for, slugify
 from twinlink.search.service import query_terms
-from twinlink.store.records import User
 from twinlink.store.sqlite.search import Highlighter, fts_phrase, match_expression
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from twinlink.domain.errors import ConflictError
-from twinlink.store.records import Edge, SearchRow, TwinWrite, Visibility
+from twinlink.domain.records import Edge, SearchRow, TwinWrite, Visibility
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite.db import connect, migrate, migrations
 
@@ -214,7 +214,7 @@ async def test_broad_queries_rank_name_matches_and_count_everything(
 
 
 async def test_the_gateway_audit_log_is_filtered_paged_and_pruned(store: SqliteStore) -> None:
-    from twinlink.store.records import AuditEntry
+    from twinlink.domain.records import AuditEntry
 
     def entry(t: int, service: str, status: int) -> AuditEntry:
         return AuditEntry(

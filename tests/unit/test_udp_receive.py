@@ -13,8 +13,8 @@ import pytest
 from twinlink.connectors import udp
 from twinlink.connectors.base import ConnectorTransport
 from twinlink.connectors.udp import SenderFilter, UdpConnector
+from twinlink.domain.records import Device
 from twinlink.ingest.link import DeviceLink
-from twinlink.store.records import Device
 
 DEVICE = Device(1, 1, "rig", "catman", "", "tld_", 0, None)
 

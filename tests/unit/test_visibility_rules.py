@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from twinlink.auth.rights import ANONYMOUS, Principal, may_see_level
-from twinlink.store.records import User
+from twinlink.domain.records import User
 from twinlink.store.sqlite.db import connect, migrate
 from twinlink.store.sqlite.visibility import part_visible, visible_private_parts
 

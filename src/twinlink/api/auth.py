@@ -14,8 +14,8 @@ from twinlink.api.routing import ExactJsonRoute
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import MAX_TOKEN_LIFETIME_S, AuthError, ListedToken
 from twinlink.domain.errors import ForbiddenError, NotFoundError
+from twinlink.domain.records import ApiToken, User
 from twinlink.registry.build import human_time, human_time_or_none
-from twinlink.store.records import ApiToken, User
 
 router = APIRouter(prefix="/api/v1", tags=["auth"], route_class=ExactJsonRoute)
 

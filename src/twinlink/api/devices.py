@@ -13,8 +13,8 @@ from twinlink.api.deps import Caller
 from twinlink.api.routing import ExactJsonRoute
 from twinlink.auth.devices import DEVICE_NAME, DeviceService
 from twinlink.auth.service import AuthError
+from twinlink.domain.records import Device
 from twinlink.registry.build import human_time, human_time_or_none
-from twinlink.store.records import Device
 
 router = APIRouter(prefix="/api/v1", tags=["devices"], route_class=ExactJsonRoute)
 _device_bearer = HTTPBearer(

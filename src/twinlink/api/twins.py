@@ -12,10 +12,10 @@ from twinlink.api.deps import Caller, Registry
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.rights import has_role, may_see_level
 from twinlink.domain.errors import ForbiddenError
+from twinlink.domain.records import ROLES, TwinRecord
 from twinlink.domain.yamlsource import dump_yaml
 from twinlink.registry.build import human_time
 from twinlink.registry.service import Applied, RegistryService
-from twinlink.store.records import ROLES, TwinRecord
 
 router = APIRouter(prefix="/api/v1", tags=["twins"])
 YAML = "application/yaml"

@@ -17,9 +17,9 @@ from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.secrets import hash_token, token_prefix
 from twinlink.auth.service import AuthError, now_ns
 from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
+from twinlink.domain.records import Device, TwinRecord
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import Device, TwinRecord
 
 DEVICE_TOKEN_PREFIX = "tld_"
 DEVICE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$")

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from twinlink.store.records import ROLE_RANK, User, Visibility
+from twinlink.domain.records import ROLE_RANK, User, Visibility
 
 
 @dataclass(frozen=True, slots=True)

@@ -31,8 +31,8 @@ from twinlink.domain.errors import (
     InvalidInputError,
     NotFoundError,
 )
+from twinlink.domain.records import ApiToken, User
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import ApiToken, User
 
 log = logging.getLogger("twinlink.auth")
 ADMIN_USERNAME = "admin"

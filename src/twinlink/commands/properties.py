@@ -24,9 +24,9 @@ from twinlink.commands.state import (
     save_properties,
 )
 from twinlink.domain.errors import ForbiddenError, NotFoundError, StorageError
+from twinlink.domain.records import Device
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
 from twinlink.registry.service import RegistryService
-from twinlink.store.records import Device
 from twinlink.store.sqlite.history import SqliteHistory
 
 log = logging.getLogger("twinlink.commands")

@@ -35,9 +35,9 @@ from twinlink.commands.model import OFFLINE, STATES, CommandRecord, new_command_
 from twinlink.commands.rules import check_command
 from twinlink.commands.targets import DeviceTargets
 from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
+from twinlink.domain.records import Device, TwinRecord
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
 from twinlink.registry.service import RegistryService
-from twinlink.store.records import Device, TwinRecord
 from twinlink.store.sqlite.history import SqliteHistory
 
 MAX_TIMEOUT_S = 7 * 24 * 3600.0

@@ -14,9 +14,9 @@ from typing import Any
 
 from twinlink.domain.errors import ConflictError, InvalidInputError, NotFoundError
 from twinlink.domain.merge import merge_parts
+from twinlink.domain.records import Device, TwinRecord
 from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
-from twinlink.store.records import Device, TwinRecord
 
 
 class DeviceChoiceError(InvalidInputError):

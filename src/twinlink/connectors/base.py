@@ -20,11 +20,11 @@ from typing import Any, ClassVar, Protocol
 import orjson
 from pydantic import BaseModel
 
+from twinlink.domain.records import Device
 from twinlink.ingest.health import Health
 from twinlink.ingest.link import DeviceLink, ServerSeq, connect_device, disconnect_device
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
-from twinlink.store.records import Device
 
 log = logging.getLogger("twinlink.connectors")
 

@@ -32,13 +32,13 @@ from twinlink.connectors.kinds import (
     split_config,
 )
 from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
+from twinlink.domain.records import ConnectorRecord, Device
 from twinlink.gateway.vault import Vault, VaultError
 from twinlink.ingest.link import DeviceLink
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import ConnectorRecord, Device
 
 log = logging.getLogger("twinlink.connectors")
 

@@ -13,10 +13,10 @@ from typing import Any
 from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.service import AuthService
 from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
+from twinlink.domain.records import TwinRecord
 from twinlink.gateway.spec import check_name
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import TwinRecord
 
 PREFIX = "svc-"
 

@@ -9,8 +9,8 @@ import logging
 import time
 
 from twinlink.domain.errors import StorageError
+from twinlink.domain.records import AuditEntry
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import AuditEntry
 
 log = logging.getLogger("twinlink.gateway")
 FLUSH_S = 0.5

@@ -10,7 +10,7 @@ from typing import Any
 import orjson
 
 from twinlink.api.problems import TITLES
-from twinlink.store.records import AuditEntry
+from twinlink.domain.records import AuditEntry
 
 Scope = MutableMapping[str, Any]
 Message = MutableMapping[str, Any]

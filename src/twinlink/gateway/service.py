@@ -8,6 +8,7 @@ from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
+from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.audit import AuditLog
 from twinlink.gateway.health import HealthLoop
 from twinlink.gateway.services import Service, ServiceBuilder
@@ -22,7 +23,6 @@ from twinlink.gateway.upstream import Pool
 from twinlink.gateway.vault import Vault
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import ServiceRecord, TwinRecord
 
 
 class GatewayService:

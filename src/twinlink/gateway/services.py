@@ -11,6 +11,7 @@ from typing import Any
 from urllib.parse import urlsplit
 
 from twinlink.domain.merge import merge_parts
+from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.credentials import Credentials, credentials_for
 from twinlink.gateway.spec import (
     READ_METHODS,
@@ -23,7 +24,6 @@ from twinlink.gateway.spec import (
 from twinlink.gateway.upstream import Origin
 from twinlink.gateway.vault import Vault, VaultError
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import ServiceRecord, TwinRecord
 
 log = logging.getLogger("twinlink.gateway")
 

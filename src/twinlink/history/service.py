@@ -16,9 +16,9 @@ import orjson
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.domain.errors import ForbiddenError
+from twinlink.domain.records import TwinRecord
 from twinlink.history.params import QueryError, format_cursor, human_ns, iso_ns
 from twinlink.registry.service import RegistryService
-from twinlink.store.records import TwinRecord
 from twinlink.store.sqlite.history import SqliteHistory
 from twinlink.store.sqlite.history.export import MEDIA_TYPES
 from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME

@@ -14,10 +14,10 @@ import time
 from typing import Any
 
 from twinlink.domain.errors import StorageError, TooManySignalsError
+from twinlink.domain.records import Device
 from twinlink.domain.samples import BatchError
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub, DeviceSession, Transport
-from twinlink.store.records import Device
 
 log = logging.getLogger("twinlink.ingest")
 

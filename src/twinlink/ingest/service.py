@@ -18,6 +18,7 @@ from typing import Any
 from twinlink.bus import Bus, samples_subject
 from twinlink.domain.errors import StorageError
 from twinlink.domain.merge import merge_parts
+from twinlink.domain.records import Device
 from twinlink.domain.samples import (
     MAX_REPORTED_REJECTIONS,
     ReadBatch,
@@ -29,7 +30,6 @@ from twinlink.domain.samples import (
 from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
 from twinlink.store.history import HistoryWriterStore
-from twinlink.store.records import Device
 
 log = logging.getLogger("twinlink.ingest")
 OUTPUT_LOG_EVERY_S = 60.0

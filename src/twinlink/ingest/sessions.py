@@ -15,7 +15,7 @@ from typing import Any, Protocol
 
 import orjson
 
-from twinlink.store.records import Device
+from twinlink.domain.records import Device
 
 log = logging.getLogger("twinlink.devices")
 

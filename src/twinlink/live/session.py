@@ -13,13 +13,13 @@ from typing import Any, Protocol
 
 from twinlink.auth.rights import Principal
 from twinlink.domain.errors import ForbiddenError, NotFoundError
+from twinlink.domain.records import TwinRecord
 from twinlink.live import protocol
 from twinlink.live.commands import CommandOps, CommandSender
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
 from twinlink.live.protocol import ClientError, CommandRequest, SubscribeRequest
 from twinlink.live.subscription import Subscription
-from twinlink.store.records import TwinRecord
 
 log = logging.getLogger("twinlink.live")
 

@@ -7,10 +7,10 @@ from typing import Any
 from pydantic import ValidationError
 
 from twinlink.domain.errors import ConflictError, InvalidInputError
+from twinlink.domain.records import ProcessorRecord
 from twinlink.processors.blueprint import BlueprintError
 from twinlink.processors.catalog import Entry
 from twinlink.processors.spec import ProcessorSpec
-from twinlink.store.records import ProcessorRecord
 
 
 def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSpec:

@@ -25,9 +25,9 @@ from twinlink.domain.errors import (
     NotFoundError,
     PayloadTooLargeError,
 )
+from twinlink.domain.records import FmuRecord, TwinRecord
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import FmuRecord, TwinRecord
 
 FMU_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}\.fmu$")
 

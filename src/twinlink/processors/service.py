@@ -24,6 +24,7 @@ from twinlink.domain.errors import (
     InvalidInputError,
     NotFoundError,
 )
+from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
 from twinlink.domain.samples import SampleBatch
 from twinlink.ingest.service import IngestService
 from twinlink.processors.blueprint import Batch
@@ -34,7 +35,6 @@ from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import ProcessorEvent, ProcessorRecord, TwinRecord
 
 log = logging.getLogger("twinlink.processors")
 NOTABLE = {"crashed", "failed", "memory_limit", "hung"}

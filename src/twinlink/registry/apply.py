@@ -10,13 +10,13 @@ from typing import Any, Literal
 from twinlink.auth.rights import Principal, has_role, may_see_level
 from twinlink.domain.document import validate_part
 from twinlink.domain.errors import ConflictError, DocumentError, ForbiddenError, NotFoundError
+from twinlink.domain.records import Edge, TwinRecord, TwinWrite
 from twinlink.domain.slug import SLUG, slug_for
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.build import declared_edges, imported_created_ns, search_rows
 from twinlink.registry.documents import REFUSED, TwinParts
 from twinlink.registry.readback import as_stored, is_view_of, refuse_merged_view
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import Edge, TwinRecord, TwinWrite
 
 Outcome = Literal["created", "updated", "unchanged"]
 Mode = Literal["apply", "create", "update"]

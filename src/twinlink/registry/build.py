@@ -8,7 +8,7 @@ from typing import Any
 from twinlink.domain.doctime import TimeRangeError, human_ns, machine_ns
 from twinlink.domain.document import DocumentPart
 from twinlink.domain.merge import level_order
-from twinlink.store.records import Edge, SearchRow
+from twinlink.domain.records import Edge, SearchRow
 
 _TWIN_TEXT_KEYS = (
     "id",

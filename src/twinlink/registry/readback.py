@@ -21,6 +21,7 @@ from typing import Any
 from twinlink.domain.document import PLATFORM_KEYS, is_placeholder
 from twinlink.domain.errors import DocumentError
 from twinlink.domain.merge import level_order
+from twinlink.domain.records import Edge, TwinRecord
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.views import (
     RelationKey,
@@ -29,7 +30,6 @@ from twinlink.registry.views import (
     relation_key,
     render_document,
 )
-from twinlink.store.records import Edge, TwinRecord
 
 # Keys of a view that come from the platform, not from the parts as written.
 _FILLED_IN = (*PLATFORM_KEYS, "relations", "id", "dt-id")

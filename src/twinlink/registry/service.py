@@ -15,13 +15,13 @@ from typing import Any, Literal
 
 from twinlink.auth.rights import Principal, has_role, may_see_level
 from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError
+from twinlink.domain.records import Edge, TwinRecord, User
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.registry.apply import Applied, Applier, Mode
 from twinlink.registry.cache import GenerationCache
 from twinlink.registry.documents import group_by_twin
 from twinlink.registry.views import render_document
 from twinlink.store.base import MetadataStore
-from twinlink.store.records import Edge, TwinRecord, User
 
 __all__ = ["Applied", "RegistryService"]
 

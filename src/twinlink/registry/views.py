@@ -5,8 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from twinlink.domain.merge import level_order, merge_parts
+from twinlink.domain.records import Edge, TwinRecord
 from twinlink.registry.build import human_time, machine_time
-from twinlink.store.records import Edge, TwinRecord
 
 _LEADING = ("version", "privacy", "id", "dt-id", "hosting-iri", "name", "description")
 _TIMES = ("createdMachine", "createdHuman", "modifiedMachine", "modifiedHuman")

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from typing import Any, Protocol
 
-from twinlink.store.records import (
+from twinlink.domain.records import (
     ApiToken,
     AuditEntry,
     ConnectorRecord,

@@ -15,6 +15,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from twinlink.auth.service import AuthError
+from twinlink.domain.records import Device
 from twinlink.ingest.link import connect_device, disconnect_device
 from twinlink.ingest.mqtt import packets as mq
 from twinlink.ingest.mqtt._wire import (
@@ -29,7 +30,6 @@ from twinlink.ingest.mqtt._wire import (
 )
 from twinlink.ingest.mqtt.bridge import DeviceBridge, Receipt
 from twinlink.ingest.mqtt.topics import DeviceTopics, Route, TopicError, matches, valid_filter
-from twinlink.store.records import Device
 
 if TYPE_CHECKING:
     from twinlink.ingest.mqtt.listener import EmbeddedListener

@@ -15,6 +15,7 @@ import asyncio
 import logging
 from collections.abc import Iterable
 
+from twinlink.domain.records import Device
 from twinlink.ingest.link import connect_device, disconnect_device
 from twinlink.ingest.mqtt import packets as mq
 from twinlink.ingest.mqtt._wire import MalformedPacket
@@ -23,7 +24,6 @@ from twinlink.ingest.mqtt.client import BrokerAddress, BrokerConnection, BrokerR
 from twinlink.ingest.mqtt.platform import Platform
 from twinlink.ingest.mqtt.status import MqttStatus
 from twinlink.ingest.mqtt.topics import STATUS, DeviceTopics, Route, TopicError, TopicScheme
-from twinlink.store.records import Device
 
 log = logging.getLogger("twinlink.mqtt")
 

@@ -8,7 +8,7 @@ from typing import Any
 import orjson
 
 from twinlink.domain.errors import ConflictError
-from twinlink.store.records import ConnectorRecord
+from twinlink.domain.records import ConnectorRecord
 from twinlink.store.sqlite.db import Database, next_id
 
 _COLUMNS = (

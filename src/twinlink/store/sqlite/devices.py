@@ -6,7 +6,7 @@ import sqlite3
 from collections.abc import Mapping
 
 from twinlink.domain.errors import ConflictError
-from twinlink.store.records import Device
+from twinlink.domain.records import Device
 from twinlink.store.sqlite.db import Database, next_id
 
 _COLUMNS = "d.id, d.twin_id, t.slug, d.name, d.description, d.prefix, d.created_ns, d.last_seen_ns"

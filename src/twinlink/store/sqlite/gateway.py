@@ -8,7 +8,7 @@ from typing import Any
 import orjson
 
 from twinlink.domain.errors import ConflictError
-from twinlink.store.records import AuditEntry, ServiceRecord
+from twinlink.domain.records import AuditEntry, ServiceRecord
 from twinlink.store.sqlite.db import Database
 
 _SERVICE_COLUMNS = (

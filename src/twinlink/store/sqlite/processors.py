@@ -8,7 +8,7 @@ from typing import Any
 import orjson
 
 from twinlink.domain.errors import ConflictError
-from twinlink.store.records import FmuRecord, ProcessorEvent, ProcessorRecord
+from twinlink.domain.records import FmuRecord, ProcessorEvent, ProcessorRecord
 from twinlink.store.sqlite.db import Database, next_id
 
 # Events kept per processor; older ones are pruned as new ones arrive.

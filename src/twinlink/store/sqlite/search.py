@@ -17,7 +17,7 @@ from collections import Counter
 from typing import Any
 
 from twinlink.domain.merge import level_order
-from twinlink.store.records import SearchResult, SearchRow, Visibility
+from twinlink.domain.records import SearchResult, SearchRow, Visibility
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.visibility import part_visible, visible_private_parts
 

@@ -9,7 +9,7 @@ from typing import Any
 import orjson
 
 from twinlink.domain.errors import ConflictError
-from twinlink.store.records import Edge, TwinRecord, TwinWrite, Visibility
+from twinlink.domain.records import Edge, TwinRecord, TwinWrite, Visibility
 from twinlink.store.sqlite.db import Database, next_id
 from twinlink.store.sqlite.search import delete_search_rows, write_search_rows
 from twinlink.store.sqlite.visibility import part_visible

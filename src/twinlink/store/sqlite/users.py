@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import orjson
 
-from twinlink.store.records import ApiToken, User
+from twinlink.domain.records import ApiToken, User
 from twinlink.store.sqlite.db import Database
 
 

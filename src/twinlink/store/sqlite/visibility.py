@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from twinlink.store.records import Visibility
+from twinlink.domain.records import Visibility
 
 
 def part_visible(vis: Visibility, twin_col: str, privacy_col: str) -> tuple[str, list[object]]:

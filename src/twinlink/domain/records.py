@@ -1,4 +1,5 @@
-"""Plain records passed between the store and the services."""
+"""Plain records passed between the store and the services (users, tokens, devices, twins,
+roles): part of the domain, so every layer may use them."""
 
 from __future__ import annotations
 
