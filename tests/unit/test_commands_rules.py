@@ -6,7 +6,7 @@ from typing import Any
 
 import pytest
 
-from twinlink.cli_commands import parse_assignments
+from twinlink.cli.commands import parse_assignments
 from twinlink.commands.rules import (
     OPEN_RULES,
     check_command,

@@ -10,8 +10,8 @@ from typing import IO, Any
 import click
 import httpx
 
-from twinlink.cli_common import HelpGroup, client_for, emit, show_value, table
-from twinlink.client import Client, ClientError, _explain
+from twinlink.cli.client import Client, ClientError, explain
+from twinlink.cli.common import HelpGroup, client_for, emit, show_value, table
 
 _TIME_HELP = "ISO 8601, ns since the epoch, now, or back from now (-1h, -15m, -7d)."
 
@@ -216,7 +216,7 @@ def _download(client: Client, path: str, params: dict[str, Any], out: IO[bytes])
         with client.http.stream("GET", path, params=params) as response:
             if response.status_code >= 400:
                 response.read()
-                raise ClientError(_explain(response))
+                raise ClientError(explain(response))
             written = 0
             for chunk in response.iter_bytes():
                 out.write(chunk)

@@ -8,7 +8,7 @@ from collections.abc import Awaitable, Callable
 
 import click
 
-from twinlink.cli_common import HelpGroup, client_for
+from twinlink.cli.common import HelpGroup, client_for
 
 _DEVICE_HELP = (
     "Device token to send with. Env: TWINLINK_DEVICE_TOKEN. Without one, the device "

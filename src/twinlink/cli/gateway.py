@@ -12,7 +12,7 @@ import httpx
 import orjson
 import yaml
 
-from twinlink.cli_common import HelpGroup, client_for, emit, table
+from twinlink.cli.common import HelpGroup, client_for, emit, table
 
 
 def _base(twin: str) -> str:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import click
 
-from twinlink.cli_common import HelpGroup, client_for, emit, table
-from twinlink.client import Client
+from twinlink.cli.client import Client
+from twinlink.cli.common import HelpGroup, client_for, emit, table
 
 # -- twins ---------------------------------------------------------------------------------
 

@@ -8,8 +8,8 @@ from typing import Any
 import click
 import orjson
 
-from twinlink.cli_common import HelpGroup, client_for, emit
-from twinlink.client import ClientError
+from twinlink.cli.client import ClientError
+from twinlink.cli.common import HelpGroup, client_for, emit
 from twinlink.domain.jsontext import JsonTextError, loads
 
 _HTTP_MARGIN_S = 30.0  # the HTTP request outlives the command's own timeout by this much

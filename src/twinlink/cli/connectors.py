@@ -8,9 +8,9 @@ from typing import Any
 import click
 import yaml
 
-from twinlink.cli_commands import parse_assignments
-from twinlink.cli_common import HelpGroup, client_for, emit, table
-from twinlink.client import Client, ClientError
+from twinlink.cli.client import Client, ClientError
+from twinlink.cli.commands import parse_assignments
+from twinlink.cli.common import HelpGroup, client_for, emit, table
 
 
 def _base(twin: str) -> str:

@@ -7,7 +7,7 @@ from typing import Any
 import click
 import orjson
 
-from twinlink.client import Client
+from twinlink.cli.client import Client
 from twinlink.domain.yamlsource import dump_yaml
 
 # Significant digits of a float in a table: a value read off a sensor or a model rarely

@@ -70,7 +70,7 @@ class Client:
         except httpx.HTTPError as err:
             raise ClientError(f"cannot reach twinlink at {self.url}: {err}") from err
         if response.status_code >= 400:
-            raise ClientError(_explain(response), _problem(response))
+            raise ClientError(explain(response), _problem(response))
         return response
 
     def json(self, method: str, path: str, **kwargs: Any) -> Any:
@@ -85,7 +85,8 @@ def _problem(response: httpx.Response) -> dict[str, Any] | None:
     return body if isinstance(body, dict) else None
 
 
-def _explain(response: httpx.Response) -> str:
+def explain(response: httpx.Response) -> str:
+    """The server's refusal as a person reads it: title, detail, each error, what to do."""
     try:
         body = response.json()
     except ValueError:
