@@ -23,7 +23,7 @@ from twinlink.bus import samples_subject
 from twinlink.commands.model import CommandRecord
 from twinlink.config import Settings
 from twinlink.connectors.base import LinkHost
-from twinlink.connectors.opcua import OpcUaConnector
+from twinlink.connectors.opcua.connector import OpcUaConnector
 from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
 from twinlink.crane.plant import AXES, CranePlant
 from twinlink.domain.records import Device, TwinRecord

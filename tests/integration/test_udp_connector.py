@@ -22,7 +22,7 @@ from twinlink.auth.rights import Principal
 from twinlink.bus import samples_subject
 from twinlink.config import Settings
 from twinlink.connectors.base import ConnectorError, LinkHost
-from twinlink.connectors.udp import UdpConnector
+from twinlink.connectors.udp.connector import UdpConnector
 from twinlink.domain.records import Device
 from twinlink.domain.samples import SampleBatch
 from twinlink.domain.yamlsource import SourceDocument

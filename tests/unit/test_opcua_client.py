@@ -17,14 +17,14 @@ from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from twinlink.connectors.base import ConnectorError, ConnectorTransport
-from twinlink.connectors.opcua import OpcUaConnector
-from twinlink.connectors.opcua_client import Failure, explain_failure, load_identity
-from twinlink.connectors.opcua_config import OpcUaConfig
-from twinlink.connectors.opcua_endpoints import (
+from twinlink.connectors.opcua.client import Failure, explain_failure, load_identity
+from twinlink.connectors.opcua.config import OpcUaConfig
+from twinlink.connectors.opcua.connector import OpcUaConnector
+from twinlink.connectors.opcua.endpoints import (
     ServerCertificateMismatch,
     checked_server_certificate,
 )
-from twinlink.connectors.opcua_session import FailedNode
+from twinlink.connectors.opcua.session import FailedNode
 from twinlink.domain.records import Device
 from twinlink.ingest.link import DeviceLink
 

@@ -13,14 +13,14 @@ from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from pydantic import ValidationError
 
-from twinlink.connectors.opcua import OpcUaConnector
-from twinlink.connectors.opcua_config import (
+from twinlink.connectors.opcua.config import (
     MethodCommand,
     NodeRef,
     OpcUaConfig,
     WriteCommand,
     parse_node_ref,
 )
+from twinlink.connectors.opcua.connector import OpcUaConnector
 
 URL = "opc.tcp://plc.example:4840/"
 

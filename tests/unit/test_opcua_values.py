@@ -11,7 +11,7 @@ import pytest
 from asyncua import ua
 from asyncua.ua.status_codes import StatusCodes
 
-from twinlink.connectors.opcua_values import (
+from twinlink.connectors.opcua.values import (
     Reading,
     SampleBatcher,
     ValueRefused,

@@ -8,7 +8,7 @@ from typing import Any
 import pytest
 from pydantic import ValidationError
 
-from twinlink.connectors.udpconfig import UdpConfig, value_codes
+from twinlink.connectors.udp.config import UdpConfig, value_codes
 
 
 def config(**fields: Any) -> UdpConfig:

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 import orjson
 import pytest
 
-from twinlink.connectors.udpformat import (
+from twinlink.connectors.udp.format import (
     CatmanDecoder,
     Clock,
     DecodeError,

@@ -10,9 +10,9 @@ from typing import Any, cast
 
 import pytest
 
-from twinlink.connectors import udp
 from twinlink.connectors.base import ConnectorTransport
-from twinlink.connectors.udp import SenderFilter, UdpConnector
+from twinlink.connectors.udp import connector as udp
+from twinlink.connectors.udp.connector import SenderFilter, UdpConnector
 from twinlink.domain.records import Device
 from twinlink.ingest.link import DeviceLink
 

@@ -37,6 +37,7 @@ from twinlink.gateway.vault import Vault, VaultError
 from twinlink.ingest.link import DeviceLink
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
+from twinlink.plugins import PluginUnavailable
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
 
@@ -229,15 +230,23 @@ class ConnectorService:
             host = _SeenHost(self.hub, self.ingest, device, self.devices.last_used)
             connector = cls(record.name, config, host)
             await connector.start()
-        except (ConnectorError, InvalidInputError, ImportError, OSError) as err:
-            status = ConnectorStatus()
-            status.error("start_failed", str(err))
-            status.set_state("error")
-            self.failed[record.id] = status
+        except (ConnectorError, InvalidInputError, PluginUnavailable, OSError) as err:
+            self._start_failed(record, str(err))
             raise InvalidInputError(f"connector {record.name!r} cannot start: {err}") from None
+        except Exception as err:  # a bug in the kind's code (a plug-in's) stops only this one
+            log.exception("connector %s/%s failed to start", record.twin_slug, record.name)
+            reason = f"{type(err).__name__}: {err}"
+            self._start_failed(record, reason)
+            raise InvalidInputError(f"connector {record.name!r} cannot start: {reason}") from err
         self.running[record.id] = connector
         log.info("connector started", extra={"event": "connector_started", "connector":
                                               record.name, "twin": record.twin_slug})  # fmt: skip
+
+    def _start_failed(self, record: ConnectorRecord, reason: str) -> None:
+        status = ConnectorStatus()
+        status.error("start_failed", reason)
+        status.set_state("error")
+        self.failed[record.id] = status
 
     async def _start_quietly(self, record: ConnectorRecord) -> None:
         """Start it if it can; why not is kept as its status."""

@@ -17,7 +17,7 @@ from typing import Literal, Self
 from asyncua import ua
 from pydantic import BaseModel, ConfigDict, Field, SecretStr, field_validator, model_validator
 
-from twinlink.connectors.opcua_certs import read_certificate, read_key_pair
+from twinlink.connectors.opcua.certs import read_certificate, read_key_pair
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
 
 SecurityPolicy = Literal["None", "Basic256Sha256", "Aes128_Sha256_RsaOaep", "Aes256_Sha256_RsaPss"]

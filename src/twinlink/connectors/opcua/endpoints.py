@@ -15,8 +15,8 @@ from asyncua.crypto import security_policies
 from asyncua.ua.uaerrors import UaError
 from cryptography import x509
 
-from twinlink.connectors.opcua_certs import describe, first_certificate
-from twinlink.connectors.opcua_config import OpcUaConfig
+from twinlink.connectors.opcua.certs import describe, first_certificate
+from twinlink.connectors.opcua.config import OpcUaConfig
 
 POLICIES: dict[str, type[security_policies.SecurityPolicy]] = {
     "Basic256Sha256": security_policies.SecurityPolicyBasic256Sha256,

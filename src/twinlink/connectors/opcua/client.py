@@ -20,9 +20,9 @@ from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from twinlink.connectors.base import ConnectorError
-from twinlink.connectors.opcua_certs import CertificateFileError, read_certificate, read_key_pair
-from twinlink.connectors.opcua_config import DEFAULT_APPLICATION_URI, OpcUaConfig
-from twinlink.connectors.opcua_endpoints import (
+from twinlink.connectors.opcua.certs import CertificateFileError, read_certificate, read_key_pair
+from twinlink.connectors.opcua.config import DEFAULT_APPLICATION_URI, OpcUaConfig
+from twinlink.connectors.opcua.endpoints import (
     MODES,
     POLICIES,
     ServerCertificateMismatch,

@@ -28,15 +28,15 @@ from asyncua.ua.uaerrors import UaError
 from pydantic import BaseModel
 
 from twinlink.connectors.base import Connector, ConnectorHost, ConnectorStatus
-from twinlink.connectors.opcua_client import (
+from twinlink.connectors.opcua.client import (
     ClientIdentity,
     explain_attempt,
     load_identity,
     new_client,
     server_certificate_der,
 )
-from twinlink.connectors.opcua_config import OpcUaConfig
-from twinlink.connectors.opcua_session import (
+from twinlink.connectors.opcua.config import OpcUaConfig
+from twinlink.connectors.opcua.session import (
     CommandFailed,
     CommandRunner,
     FailedNode,
@@ -45,7 +45,7 @@ from twinlink.connectors.opcua_session import (
     read_server_state,
     subscribe,
 )
-from twinlink.connectors.opcua_values import SampleBatcher, read_data_value
+from twinlink.connectors.opcua.values import SampleBatcher, read_data_value
 from twinlink.tasks import until_first_done
 
 __all__ = ["OpcUaConnector"]

@@ -23,15 +23,15 @@ from asyncua.ua.object_ids import ObjectIds
 from asyncua.ua.ua_binary import struct_from_binary
 from asyncua.ua.uaerrors import BadNoMatch, UaStatusCodeError
 
-from twinlink.connectors.opcua_client import status_name
-from twinlink.connectors.opcua_config import (
+from twinlink.connectors.opcua.client import status_name
+from twinlink.connectors.opcua.config import (
     MethodCommand,
     OpcUaConfig,
     SignalMapping,
     WriteCommand,
     parse_node_ref,
 )
-from twinlink.connectors.opcua_values import ValueRefused, json_value, variant_for
+from twinlink.connectors.opcua.values import ValueRefused, json_value, variant_for
 
 # Notifications asyncua holds for the connector; past this (the platform far behind) the
 # oldest are dropped.

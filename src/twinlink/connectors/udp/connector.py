@@ -23,8 +23,8 @@ from typing import Any
 from pydantic import BaseModel
 
 from twinlink.connectors.base import Connector, ConnectorError, ConnectorHost, ConnectorStatus
-from twinlink.connectors.udpconfig import UdpConfig
-from twinlink.connectors.udpformat import (
+from twinlink.connectors.udp.config import UdpConfig
+from twinlink.connectors.udp.format import (
     CatmanDecoder,
     Clock,
     DecodeError,

@@ -10,7 +10,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from twinlink.connectors.udpformat import catman_format
+from twinlink.connectors.udp.format import catman_format
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
 
 MAX_DATAGRAM = 65_507  # the largest UDP payload over IPv4
