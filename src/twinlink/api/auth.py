@@ -3,21 +3,42 @@
 from __future__ import annotations
 
 import time
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import APIRouter, Query
 from pydantic import AfterValidator, BaseModel, Field
 
 from twinlink.api.deps import Admin, Auth, Caller
+from twinlink.api.models.auth import (
+    DeletedUser,
+    IssuedToken,
+    IssuedTokenFor,
+    ListedToken,
+    LoginAnswer,
+    Revoked,
+    TokenList,
+    TokenView,
+    UserList,
+    UserView,
+)
+from twinlink.api.models.problem import problems
 from twinlink.api.params import RowId
 from twinlink.api.routing import ExactJsonRoute
 from twinlink.auth.rights import Principal
-from twinlink.auth.service import MAX_TOKEN_LIFETIME_S, AuthError, ListedToken
+from twinlink.auth.service import MAX_TOKEN_LIFETIME_S, AuthError
+from twinlink.auth.service import ListedToken as ListedRecord
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.domain.records import ApiToken, User
 from twinlink.registry.build import human_time, human_time_or_none
 
-router = APIRouter(prefix="/api/v1", tags=["auth"], route_class=ExactJsonRoute)
+router = APIRouter(
+    prefix="/api/v1",
+    tags=["auth"],
+    route_class=ExactJsonRoute,
+    responses=problems(401, 422, 503),
+)
+# Routes that change users or tokens: a name may be taken, the disk may be full.
+CHANGING = problems(409, 507)
 
 _GROUP = r"^[A-Za-z0-9][A-Za-z0-9_.:-]{0,63}$"
 
@@ -67,109 +88,138 @@ class UserChange(BaseModel):
     disabled: bool | None = None
 
 
-def user_view(u: User) -> dict[str, Any]:
-    return {
-        "username": u.username,
-        "is_admin": u.is_admin,
-        "groups": u.groups,
-        "disabled": u.disabled,
-        "created": human_time(u.created_ns),
-    }
+def user_view(u: User) -> UserView:
+    return UserView(
+        username=u.username,
+        is_admin=u.is_admin,
+        groups=u.groups,
+        disabled=u.disabled,
+        created=human_time(u.created_ns),
+    )
 
 
-def token_view(t: ApiToken) -> dict[str, Any]:
+def token_view(t: ApiToken) -> TokenView:
     now = time.time_ns()
     state = "active"
     if t.revoked_ns is not None:
         state = "revoked"
     elif t.expires_ns is not None and t.expires_ns <= now:
         state = "expired"
-    return {
-        "id": t.id,
-        "name": t.name,
-        "state": state,
-        "prefix": t.prefix,
-        "kind": t.kind,
-        "created": human_time(t.created_ns),
-        "expires": human_time_or_none(t.expires_ns),
-        "last_used": human_time_or_none(t.last_used_ns),
-        "revoked": human_time_or_none(t.revoked_ns),
-    }
+    return TokenView(
+        id=t.id,
+        name=t.name,
+        state=state,
+        prefix=t.prefix,
+        kind=t.kind,
+        created=human_time(t.created_ns),
+        expires=human_time_or_none(t.expires_ns),
+        last_used=human_time_or_none(t.last_used_ns),
+        revoked=human_time_or_none(t.revoked_ns),
+    )
 
 
-def listed_token_view(listed: ListedToken) -> dict[str, Any]:
-    return {
-        **token_view(listed.record),
-        "username": listed.username,
-        "current": listed.current,
-    }
+def listed_token_view(listed: ListedRecord) -> ListedToken:
+    return ListedToken(
+        **token_view(listed.record).model_dump(),
+        username=listed.username,
+        current=listed.current,
+    )
 
 
-@router.post("/auth/login", summary="Exchange a username and password for a session token")
-async def login(body: Login, auth: Auth) -> dict[str, Any]:
+@router.post(
+    "/auth/login",
+    summary="Exchange a username and password for a session token",
+    responses=problems(507),
+)
+async def login(body: Login, auth: Auth) -> LoginAnswer:
     issued = await auth.login(body.username, body.password)
-    return {"token": issued.token, "token_type": "bearer", **token_view(issued.record)}
+    fields = token_view(issued.record).model_dump()
+    return LoginAnswer(token=issued.token, token_type="bearer", **fields)
 
 
-@router.post("/auth/logout", summary="Revoke the token this request was made with")
-async def logout(caller: Caller, auth: Auth) -> dict[str, Any]:
+@router.post(
+    "/auth/logout",
+    summary="Revoke the token this request was made with",
+    responses=problems(507),
+)
+async def logout(caller: Caller, auth: Auth) -> Revoked:
     assert caller.token_id is not None
     await auth.revoke_token(caller, caller.token_id)
-    return {"revoked": caller.token_id}
+    return Revoked(revoked=caller.token_id)
 
 
 @router.get("/auth/me", summary="Who the caller is")
-async def me(caller: Caller) -> dict[str, Any]:
+async def me(caller: Caller) -> UserView:
     assert caller.user is not None
     return user_view(caller.user)
 
 
-@router.get("/tokens", summary="The caller's API tokens (admins: everyone's with all=true)")
-async def list_tokens(caller: Caller, auth: Auth, all: bool = False) -> dict[str, Any]:
-    return {"tokens": [listed_token_view(t) for t in await auth.list_tokens(caller, all)]}
+@router.get(
+    "/tokens",
+    summary="The caller's API tokens (admins: everyone's with all=true)",
+    responses=problems(403),
+)
+async def list_tokens(caller: Caller, auth: Auth, all: bool = False) -> TokenList:
+    return TokenList(tokens=[listed_token_view(t) for t in await auth.list_tokens(caller, all)])
 
 
-@router.post("/tokens", status_code=201, summary="Create an API token; the secret is shown once")
-async def create_token(body: NewToken, caller: Caller, auth: Auth) -> dict[str, Any]:
+@router.post(
+    "/tokens",
+    status_code=201,
+    summary="Create an API token; the secret is shown once",
+    responses=CHANGING,
+)
+async def create_token(body: NewToken, caller: Caller, auth: Auth) -> IssuedToken:
     assert caller.user is not None
     issued = await auth.issue_token(caller.user, body.name, body.expires_in_s)
-    return {"token": issued.token, **token_view(issued.record)}
+    return IssuedToken(token=issued.token, **token_view(issued.record).model_dump())
 
 
 @router.post(
     "/users/{username}/tokens",
     status_code=201,
     summary="Create an API token for another user, e.g. a service account (admins)",
+    responses={**problems(403, 404), **CHANGING},
 )
-async def create_token_for(username: str, body: NewToken, _: Admin, auth: Auth) -> dict[str, Any]:
+async def create_token_for(username: str, body: NewToken, _: Admin, auth: Auth) -> IssuedTokenFor:
     user = await auth.require_user(username)
     issued = await auth.issue_token(user, body.name, body.expires_in_s)
-    return {"token": issued.token, "username": user.username, **token_view(issued.record)}
+    fields = token_view(issued.record).model_dump()
+    return IssuedTokenFor(token=issued.token, username=user.username, **fields)
 
 
-@router.delete("/tokens/{token_id}", summary="Revoke an API token")
-async def revoke_token(token_id: RowId, caller: Caller, auth: Auth) -> dict[str, Any]:
+@router.delete(
+    "/tokens/{token_id}",
+    summary="Revoke an API token",
+    responses={**problems(403, 404), **CHANGING},
+)
+async def revoke_token(token_id: RowId, caller: Caller, auth: Auth) -> Revoked:
     await auth.revoke_token(caller, token_id)
-    return {"revoked": token_id}
+    return Revoked(revoked=token_id)
 
 
-@router.get("/users", summary="All users (admins)")
-async def list_users(_: Admin, auth: Auth) -> dict[str, Any]:
-    return {"users": [user_view(u) for u in await auth.store.list_users()]}
+@router.get("/users", summary="All users (admins)", responses=problems(403))
+async def list_users(_: Admin, auth: Auth) -> UserList:
+    return UserList(users=[user_view(u) for u in await auth.store.list_users()])
 
 
-@router.post("/users", status_code=201, summary="Create a user (admins)")
-async def create_user(body: NewUser, _: Admin, auth: Auth) -> dict[str, Any]:
+@router.post(
+    "/users",
+    status_code=201,
+    summary="Create a user (admins)",
+    responses={**problems(403), **CHANGING},
+)
+async def create_user(body: NewUser, _: Admin, auth: Auth) -> UserView:
     user = await auth.create_user(body.username, body.password, body.is_admin, body.groups)
     return user_view(user)
 
 
 @router.patch(
-    "/users/{username}", summary="Change a user (admins; users may change their password)"
+    "/users/{username}",
+    summary="Change a user (admins; users may change their password)",
+    responses={**problems(403, 404), **CHANGING},
 )
-async def update_user(
-    username: str, body: UserChange, caller: Caller, auth: Auth
-) -> dict[str, Any]:
+async def update_user(username: str, body: UserChange, caller: Caller, auth: Auth) -> UserView:
     _may_change(caller, username, body)
     if body.password and _is_self(caller, username):
         await auth.check_current_password(username, body.current_password)
@@ -184,16 +234,20 @@ async def update_user(
     )
 
 
-@router.delete("/users/{username}", summary="Delete a user (admins)")
+@router.delete(
+    "/users/{username}",
+    summary="Delete a user (admins)",
+    responses={**problems(403, 404), **CHANGING},
+)
 async def delete_user(
     username: str, caller: Admin, auth: Auth, force: Annotated[bool, Query()] = False
-) -> dict[str, Any]:
+) -> DeletedUser:
     user = await auth.require_user(username)
     if caller.user is not None and user.id == caller.user.id and not force:
         raise ForbiddenError("refusing to delete yourself; pass force=true if you mean it")
     if not await auth.delete_user(user):
         raise NotFoundError(f"no user named {username!r}")
-    return {"deleted": username}
+    return DeletedUser(deleted=username)
 
 
 def _may_change(caller: Principal, username: str, body: UserChange) -> None:
