@@ -9,23 +9,12 @@ from pathlib import Path
 import pytest
 from pydantic import ValidationError
 
-from twinlink.gateway.credentials import (
-    RefreshError,
-    TokenCredentials,
-    _seconds,
-    credentials_for,
-    json_path,
-    scrub,
-)
-from twinlink.gateway.spec import (
-    ServiceSettings,
-    check_base_url,
-    origin,
-    public_auth,
-    service_name,
-    split_secrets,
-)
+from twinlink.gateway.credentials.base import CredentialConfig, RefreshError, scrub
+from twinlink.gateway.credentials.methods import credentials_for, shown_auth
+from twinlink.gateway.credentials.token import TokenCredentials, json_path, seconds
+from twinlink.gateway.spec import ServiceSettings, check_base_url, origin, service_name
 from twinlink.gateway.vault import Vault, VaultError
+from twinlink.plugins import split_secrets
 
 
 def test_feature_names_become_service_names() -> None:
@@ -63,9 +52,9 @@ def test_secrets_are_split_off_and_shown_only_as_set() -> None:
             },
         }
     )
-    public, secret = split_secrets(settings.model_dump(by_alias=True)["auth"])
+    public, secret = split_secrets(settings.auth)
     assert secret == {"password": "pw", "client_secret": "cs"}
-    shown = public_auth(public, set(secret))
+    shown = shown_auth(public, set(secret))
     assert shown["password_set"] is True and shown["client_secret_set"] is True
     assert "pw" not in str(shown) and "cs" not in str(shown)
 
@@ -117,9 +106,11 @@ def test_the_vault_key_file_is_private_and_other_keys_cannot_read(tmp_path: Path
     assert "key" not in repr(vault).replace("<key hidden>", "")
 
 
-class _Flaky(TokenCredentials):
+class _Flaky(TokenCredentials[CredentialConfig]):
+    template = "Token {token}"
+
     def __init__(self) -> None:
-        super().__init__("custom_login", "Authorization", "Token {token}")
+        super().__init__(CredentialConfig(method="flaky"))
         self.fail = False
         self.fetches = 0
 
@@ -154,11 +145,11 @@ async def test_a_login_endpoints_expires_in_that_is_no_finite_number_means_an_ho
     expires_in: object, life_s: float
 ) -> None:
     # A hostile or broken endpoint's 400-digit expires_in overflowed float(): a failed call.
-    class Endpoint(TokenCredentials):
+    class Endpoint(TokenCredentials[CredentialConfig]):
         async def fetch(self) -> tuple[str, float | None]:
-            return "t", _seconds(expires_in)
+            return "t", seconds(expires_in)
 
-    creds = Endpoint("custom_login", "Authorization", "Token {token}")
+    creds = Endpoint(CredentialConfig(method="endpoint"))
     before = time.monotonic()
     await creds.ready()
     assert before + life_s <= creds._expires_at <= time.monotonic() + life_s

@@ -9,7 +9,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from twinlink.gateway import paths
-from twinlink.gateway.credentials import RefreshError
+from twinlink.gateway.credentials.base import RefreshError
 from twinlink.gateway.services import Service
 from twinlink.gateway.upstream import UpstreamError, request_head
 

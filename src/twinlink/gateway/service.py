@@ -12,15 +12,10 @@ from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.audit import AuditLog
 from twinlink.gateway.health import HealthLoop
 from twinlink.gateway.services import Service, ServiceBuilder
-from twinlink.gateway.spec import (
-    SECRET_FIELDS,
-    ServiceSettings,
-    check_name,
-    origin,
-    split_secrets,
-)
+from twinlink.gateway.spec import ServiceSettings, check_name, origin
 from twinlink.gateway.upstream import Pool
 from twinlink.gateway.vault import Vault
+from twinlink.plugins import split_secrets
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
 
@@ -180,7 +175,7 @@ class GatewayService:
         create: bool,
         keep_origin: bool = False,
     ) -> None:
-        public, secret = split_secrets(settings.model_dump(by_alias=True)["auth"])
+        public, secret = split_secrets(settings.auth)
         stored = settings.model_dump(by_alias=True, exclude={"auth"})
         if source == "document":
             stored.pop("base_url", None)
@@ -238,4 +233,4 @@ def _first_error(err: ValueError) -> str:
     return str(err)
 
 
-__all__ = ["SECRET_FIELDS", "GatewayService"]
+__all__ = ["GatewayService"]

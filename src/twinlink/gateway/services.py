@@ -12,17 +12,18 @@ from urllib.parse import urlsplit
 
 from twinlink.domain.merge import merge_parts
 from twinlink.domain.records import ServiceRecord, TwinRecord
-from twinlink.gateway.credentials import Credentials, credentials_for
+from twinlink.gateway.credentials.base import Credentials
+from twinlink.gateway.credentials.methods import credentials_for, shown_auth
 from twinlink.gateway.spec import (
     READ_METHODS,
     ServiceSettings,
     check_base_url,
     origin,
-    public_auth,
     service_name,
 )
 from twinlink.gateway.upstream import Origin
 from twinlink.gateway.vault import Vault, VaultError
+from twinlink.plugins import split_secrets
 from twinlink.store.base import MetadataStore
 
 log = logging.getLogger("twinlink.gateway")
@@ -86,7 +87,7 @@ class Service:
     source: str  # document | api
     base_url: str | None  # None: a stored document service whose feature is gone
     settings: ServiceSettings
-    credentials: Credentials
+    credentials: Credentials[Any]
     feature: dict[str, Any] | None
     record: ServiceRecord | None
     blocked: str | None = None  # why requests cannot be forwarded now
@@ -111,10 +112,7 @@ class Service:
 
     def public(self) -> dict[str, Any]:
         s = self.settings
-        shown_auth = public_auth(
-            s.auth.model_dump(by_alias=True, exclude=_secret_keys(s)),
-            _set_secrets(self.record),
-        )
+        public_auth, _ = split_secrets(s.auth)
         return {
             "name": self.name,
             "twin": self.twin_slug,
@@ -122,7 +120,7 @@ class Service:
             "base_url": self.base_url,
             "feature": None if self.feature is None else self.feature.get("name"),
             "description": s.description or (self.feature or {}).get("description"),
-            "auth": shown_auth,
+            "auth": shown_auth(public_auth, _set_secrets(self.record)),
             "methods": s.methods,
             "limits": s.limits.model_dump(),
             "health_path": s.health_path,
@@ -131,12 +129,6 @@ class Service:
             "blocked": self.blocked,
             "gateway_path": f"/twins/{self.twin_slug}/services/{self.name}/",
         }
-
-
-def _secret_keys(settings: ServiceSettings) -> set[str]:
-    from twinlink.gateway.spec import SECRET_FIELDS
-
-    return set(SECRET_FIELDS.get(settings.auth.method, ()))
 
 
 def _set_secrets(record: ServiceRecord | None) -> set[str]:
@@ -164,11 +156,11 @@ class ServiceBuilder:
     def __init__(self, store: MetadataStore, vault: Vault) -> None:
         self.store = store
         self.vault = vault
-        self._credentials: dict[tuple[int, str, int], Credentials] = {}
+        self._credentials: dict[tuple[int, str, int], Credentials[Any]] = {}
         self.stats: dict[tuple[int, str], ServiceStats] = {}
         self.slugs: dict[int, str] = {}  # twin id -> slug, for the metrics' labels
 
-    def credentials_by_service(self) -> dict[tuple[int, str], Credentials]:
+    def credentials_by_service(self) -> dict[tuple[int, str], Credentials[Any]]:
         return {(k[0], k[1]): v for k, v in self._credentials.items()}
 
     async def build(self, twin: TwinRecord) -> dict[str, Service]:

@@ -3,7 +3,7 @@ failure becomes the 502 problem `refresh_failed`, with every secret scrubbed fro
 
 from __future__ import annotations
 
-from twinlink.gateway.credentials import RefreshError, scrub
+from twinlink.gateway.credentials.base import RefreshError, scrub
 from twinlink.gateway.exchange import GatewayProblem
 from twinlink.gateway.services import Service
 

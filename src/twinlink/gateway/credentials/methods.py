@@ -1,0 +1,58 @@
+"""The credential methods there are, found through the `twinlink.credentials` entry points,
+and a service's `auth` settings checked, split and shown with them.
+
+A method whose package cannot be loaded is left out (logged once): settings naming it are
+refused, and a service stored with it is blocked with the reason, while every other service
+works on.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from pydantic import BeforeValidator, SerializeAsAny
+
+from twinlink.gateway.credentials.base import CredentialConfig, Credentials
+from twinlink.plugins import CREDENTIALS, Plugins, PluginUnavailable, shown_settings
+
+METHODS: Plugins[Credentials[Any]] = Plugins(CREDENTIALS, Credentials, "method")
+
+
+def method_class(method: str) -> type[Credentials[Any]]:
+    """The class of `method`; ValueError (a setting's error) if there is none here."""
+    try:
+        return METHODS.get(method)
+    except KeyError:
+        known = ", ".join(METHODS.names())
+        raise ValueError(f"unknown method {method!r}; the methods are {known}") from None
+    except PluginUnavailable as err:
+        raise ValueError(f"the credential method {method!r} is not available here: {err}") from err
+
+
+def checked_auth(value: Any) -> Any:
+    """`auth` validated by its method's settings model (a pydantic before-validator)."""
+    if isinstance(value, CredentialConfig):
+        return value
+    if not isinstance(value, dict):
+        raise ValueError("`auth` is an object with a `method` and that method's settings")
+    method = value.get("method")
+    if not isinstance(method, str):
+        raise ValueError(f"`auth` needs a `method`: one of {', '.join(METHODS.names())}")
+    return method_class(method).Config.model_validate(value)
+
+
+# A service's `auth`: any method's settings, checked by that method's model, dumped as such.
+AuthSettings = SerializeAsAny[Annotated[CredentialConfig, BeforeValidator(checked_auth)]]
+
+
+def credentials_for(config: CredentialConfig) -> Credentials[Any]:
+    return method_class(config.method)(config)
+
+
+def shown_auth(public: dict[str, Any], set_names: set[str]) -> dict[str, Any]:
+    """Auth settings as shown: every secret field of the method replaced by `<field>_set`."""
+    try:
+        model: type[CredentialConfig] | None = method_class(str(public.get("method"))).Config
+    except ValueError:
+        model = None
+    return shown_settings(model, public, set_names)
