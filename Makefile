@@ -7,7 +7,10 @@
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
-STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml edge/pyproject.toml constraints.txt | cksum | cut -d" " -f1)
+# The demo is no part of the product: its packages (examples/demo, and the crane's services in
+# examples/ilmatar) are installed beside it, as the edge SDK is, so `twinlink demo` finds them.
+DEMO   := examples/ilmatar examples/demo
+STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml edge/pyproject.toml $(DEMO:%=%/pyproject.toml) constraints.txt | cksum | cut -d" " -f1)
 HOST   ?= 127.0.0.1
 PORT   ?= 8000
 
@@ -25,19 +28,19 @@ endif
 
 setup: $(STAMP) $(UI_BUILT)
 
-$(STAMP): pyproject.toml edge/pyproject.toml constraints.txt
+$(STAMP): pyproject.toml edge/pyproject.toml $(DEMO:%=%/pyproject.toml) constraints.txt
 	@scripts/ensure-python.sh $(PYTHON)
 	@scripts/ensure-packages.sh gcc g++ libc6-dev   # FMUs are built from C source; the ESP32 example's host test is C++
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e ./edge -e ".[dev]"
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e ./edge $(DEMO:%=-e ./%) -e ".[dev]"
 	@rm -f $(VENV)/.installed-*
 	@touch $@
 
 # After changing dependencies in pyproject.toml: install the newest allowed versions, run
 # make test, then commit the new constraints.txt with the change.
 constraints:
-	$(BIN)/python -m pip install --quiet --upgrade -e ./edge -e ".[dev]"
+	$(BIN)/python -m pip install --quiet --upgrade -e ./edge $(DEMO:%=-e ./%) -e ".[dev]"
 	{ sed -n '1,2p' constraints.txt; $(BIN)/python -m pip freeze --exclude-editable; } > constraints.tmp
 	mv constraints.tmp constraints.txt
 
@@ -83,13 +86,13 @@ ifneq ($(UI_BUILT),)
 endif
 
 lint: $(STAMP)
-	$(BIN)/ruff check src edge tests bench
-	$(BIN)/ruff format --check src edge tests bench
+	$(BIN)/ruff check src edge $(DEMO) tests bench
+	$(BIN)/ruff format --check src edge $(DEMO) tests bench
 	$(BIN)/mypy
 
 format: $(STAMP)
-	$(BIN)/ruff format src edge tests bench
-	$(BIN)/ruff check --fix src edge tests bench
+	$(BIN)/ruff format src edge $(DEMO) tests bench
+	$(BIN)/ruff check --fix src edge $(DEMO) tests bench
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info $(UI_OUT) ui/node_modules

@@ -16,6 +16,8 @@ from typing import Any
 import pytest
 import pytest_asyncio
 
+from ilmatar_crane.opcua import CraneOpcUaServer, OpcUaAccess
+from ilmatar_crane.plant import AXES, CranePlant
 from tests.integration._util import twin_doc
 from twinlink.app import Services, build_services, start_services, stop_services
 from twinlink.auth.rights import Principal
@@ -24,8 +26,6 @@ from twinlink.commands.model import CommandRecord
 from twinlink.config import Settings
 from twinlink.connectors.base import LinkHost
 from twinlink.connectors.opcua.connector import OpcUaConnector
-from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
-from twinlink.crane.plant import AXES, CranePlant
 from twinlink.domain.records import Device, TwinRecord
 from twinlink.domain.samples import SampleBatch
 from twinlink.registry.documents import parse_documents

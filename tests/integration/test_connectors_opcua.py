@@ -16,12 +16,12 @@ import orjson
 import pytest
 import yaml
 
+from ilmatar_crane.opcua import CraneOpcUaServer, OpcUaAccess
+from ilmatar_crane.plant import CranePlant
 from tests.conftest import Server, free_port
 from tests.integration._fixtures import no_server_errors as no_server_errors
 from tests.integration._util import apply, assert_problem, poll_until, twin_doc, unique
 from tests.integration.test_opcua_security import write_identity
-from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
-from twinlink.crane.plant import CranePlant
 
 PASSWORD = "crane-op-7f3a9c"
 NS = "ns=2;s=Ilmatar"

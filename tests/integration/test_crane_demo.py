@@ -21,9 +21,9 @@ from urllib.parse import urlsplit
 import httpx
 import pytest
 
+from ilmatar_crane import CranePorts
 from tests.conftest import ROOT, free_port
 from tests.integration._util import CRANE_SLUG, poll_until
-from twinlink.crane import CranePorts
 
 pytestmark = pytest.mark.integration
 

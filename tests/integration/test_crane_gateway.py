@@ -13,12 +13,12 @@ import httpx
 import pytest
 import pytest_asyncio
 
+from ilmatar_crane import Crane, CranePorts, CraneSettings, start_crane
+from ilmatar_crane.settings import PORT_NAMES
 from tests.conftest import EXAMPLES, Server
 from tests.integration._util import YAML_HEADERS
-from twinlink.crane import Crane, CranePorts, CraneSettings, start_crane
-from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
-from twinlink.crane.settings import PORT_NAMES
-from twinlink.demo_crane import DemoCrane, plc_connector
+from twinlink_demo.crane import DemoCrane, plc_connector
+from twinlink_demo.crane_gateway import HEALTH_PATHS, gateway_auth
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 
@@ -53,7 +53,7 @@ async def gateway(server: Server, crane: Crane) -> AsyncIterator[httpx.AsyncClie
     async with httpx.AsyncClient(base_url=server.url, headers=headers, timeout=30) as client:
         r = await client.post("/api/v1/apply", content=_documents_for(crane), headers=YAML_HEADERS)
         assert r.status_code == 200, r.text
-        for name, auth in gateway_auth(crane).items():  # what demo_crane.py sends
+        for name, auth in gateway_auth(crane).items():  # what twinlink_demo.crane sends
             r = await client.patch(
                 f"/api/v1/twins/{SLUG}/services/{name}",
                 json={"auth": auth, "health_path": HEALTH_PATHS[name]},

@@ -13,10 +13,10 @@ import psutil
 import pytest
 import yaml
 
+from ilmatar_crane import CranePorts, CraneSettings, start_crane
 from tests.conftest import EXAMPLES
-from twinlink.crane import CranePorts, CraneSettings, start_crane
-from twinlink.crane.gateway_auth import FEATURES
 from twinlink.gateway.spec import service_name
+from twinlink_demo.crane_gateway import FEATURES
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 
@@ -62,7 +62,7 @@ async def test_cli_prints_its_urls_and_stops_on_sigint() -> None:
     args = ["--opcua-port", "0", "--historian-port", "0", "--bridge-port", "0"]
     args += ["--cad-port", "0", "--sensors-port", "0", "--no-autopilot"]
     proc = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "twinlink.crane", *args, stderr=asyncio.subprocess.PIPE
+        sys.executable, "-m", "ilmatar_crane", *args, stderr=asyncio.subprocess.PIPE
     )
     assert proc.stderr is not None
     try:
@@ -91,7 +91,7 @@ async def test_cli_refuses_a_taken_port_in_one_line() -> None:
         args = ["--opcua-port", str(port), "--historian-port", "0", "--bridge-port", "0"]
         args += ["--cad-port", "0", "--sensors-port", "0"]
         proc = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "twinlink.crane", *args, stderr=asyncio.subprocess.PIPE
+            sys.executable, "-m", "ilmatar_crane", *args, stderr=asyncio.subprocess.PIPE
         )
         async with asyncio.timeout(60):
             _, err = await proc.communicate()

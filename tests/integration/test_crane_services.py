@@ -17,15 +17,15 @@ from asyncua.client.client import Client
 from asyncua.common.node import Node
 from asyncua.ua.uaerrors import BadOutOfRange, BadUserAccessDenied
 
+from ilmatar_crane import Crane, CranePorts, CraneSettings, start_crane
+from ilmatar_crane.settings import OPCUA_NAMESPACE
 from tests.integration._cad_checks import assert_closed_outward_mesh, assert_step_file
-from twinlink.crane import Crane, CranePorts, CraneSettings, start_crane
-from twinlink.crane.gateway_auth import (
+from twinlink_demo.crane_gateway import (
     HEALTH_PATHS,
     gateway_auth,
     gateway_base_urls,
     gateway_password_auth,
 )
-from twinlink.crane.settings import OPCUA_NAMESPACE
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 

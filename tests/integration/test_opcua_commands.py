@@ -9,6 +9,8 @@ from typing import Any
 import pytest
 from asyncua.client.client import Client
 
+from ilmatar_crane.opcua import CraneOpcUaServer
+from ilmatar_crane.plant import AXES, CranePlant
 from tests.integration._opcua import (
     NS,
     Platform,
@@ -20,8 +22,6 @@ from tests.integration._opcua import crane as crane
 from tests.integration._opcua import crane_module as crane_module
 from tests.integration._opcua import plant as plant
 from tests.integration._opcua import platform as platform
-from twinlink.crane.opcua import CraneOpcUaServer
-from twinlink.crane.plant import AXES, CranePlant
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 

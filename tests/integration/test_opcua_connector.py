@@ -12,6 +12,8 @@ import pytest
 from asyncua import ua
 from asyncua.ua.status_codes import StatusCodes
 
+from ilmatar_crane.opcua import CraneOpcUaServer
+from ilmatar_crane.plant import CranePlant
 from tests.conftest import free_port
 from tests.integration._opcua import (
     NS,
@@ -38,8 +40,6 @@ from tests.integration._opcua import (
 from tests.integration._opcua import (
     platform as platform,
 )
-from twinlink.crane.opcua import CraneOpcUaServer
-from twinlink.crane.plant import CranePlant
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 

@@ -16,6 +16,8 @@ from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
+from ilmatar_crane.opcua import CraneOpcUaServer, OpcUaAccess
+from ilmatar_crane.plant import CranePlant
 from tests.integration._opcua import (
     Platform,
     connected,
@@ -25,8 +27,6 @@ from tests.integration._opcua import (
     running,
     running_platform,
 )
-from twinlink.crane.opcua import CraneOpcUaServer, OpcUaAccess
-from twinlink.crane.plant import CranePlant
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 

@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from twinlink.crane.autopilot import ROUTE, Autopilot
-from twinlink.crane.plant import AXES, AXIS_LIMITS, FLOOR, PAYLOADS, CranePlant
-from twinlink.crane.signals import BY_PATH, SIGNALS
+from ilmatar_crane.autopilot import ROUTE, Autopilot
+from ilmatar_crane.plant import AXES, AXIS_LIMITS, FLOOR, PAYLOADS, CranePlant
+from ilmatar_crane.signals import BY_PATH, SIGNALS
 
 DT = 0.1
 

@@ -13,8 +13,8 @@ import pytest
 import yaml
 
 from twinlink.domain.samples import read_batch, schema_from_interface
-from twinlink.simulate.generic import GenericModel
-from twinlink.simulate.tingen import FORCE_PER_RAD, TingenModel
+from twinlink_edge.simulate.generic import GenericModel
+from twinlink_edge.simulate.tingen import FORCE_PER_RAD, TingenModel
 
 TINGEN = Path(__file__).resolve().parents[2] / "examples" / "tingen" / "tingen.yaml"
 RATE_HZ = 100

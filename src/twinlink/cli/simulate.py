@@ -67,7 +67,7 @@ def tingen(
 ) -> None:
     """The thesis's cantilever rig: a damped swing sensed by an IMU, smoothed by the
     complementary filter; obeys pause, start and set_sample_rate."""
-    from twinlink.simulate.runner import run_tingen
+    from twinlink_edge.simulate.runner import run_tingen
 
     if not 1 <= rate <= 100 or not 0 <= k <= 1:
         raise click.BadParameter("--rate must be 1-100 and -k 0-1")
@@ -102,7 +102,7 @@ def generic(
     duration: float | None,
 ) -> None:
     """A generic source: sine, step, noise and random-walk signals at any rate."""
-    from twinlink.simulate.runner import run_generic
+    from twinlink_edge.simulate.runner import run_generic
 
     if rate <= 0 or not 1 <= signals <= 1000:
         raise click.BadParameter("--rate must be positive and --signals 1-1000")

@@ -11,7 +11,7 @@ Shape = Literal["sine", "step", "noise", "walk"]
 SHAPES: tuple[Shape, ...] = ("sine", "step", "noise", "walk")
 
 
-@dataclass(slots=True)
+@dataclass
 class GenericModel:
     signals: int = 4
     shape: Shape | Literal["mixed"] = "mixed"

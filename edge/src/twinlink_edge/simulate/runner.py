@@ -15,16 +15,16 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from twinlink.simulate.generic import GenericModel
-from twinlink.simulate.tingen import TingenModel
-from twinlink_edge.aio import AsyncDevice
+from ..aio import AsyncDevice
+from .generic import GenericModel
+from .tingen import TingenModel
 
-log = logging.getLogger("twinlink.simulate")
+log = logging.getLogger("twinlink_edge.simulate")
 
 TICK_S = 0.01  # the pacing loop wakes at most this often and makes every sample that is due
 
 
-@dataclass(slots=True)
+@dataclass
 class Pace:
     rate_hz: float
     paused: bool = False
@@ -52,7 +52,7 @@ async def run_paced(
         if now - next_ns > 1_000_000_000:  # far behind (machine suspended): skip ahead
             next_ns = now
         wait_s = max(0.0, min(TICK_S, (next_ns - time.time_ns()) / 1e9))
-        with contextlib.suppress(TimeoutError):
+        with contextlib.suppress(asyncio.TimeoutError):
             await asyncio.wait_for(stop.wait(), wait_s)
     return sent
 
@@ -119,7 +119,7 @@ def _tingen_handlers(device: AsyncDevice, model: TingenModel, pace: Pace) -> Non
 
 
 def _rate(value: Any) -> float:
-    if not isinstance(value, int | float) or isinstance(value, bool) or not 1 <= value <= 100:
+    if not isinstance(value, (int, float)) or isinstance(value, bool) or not 1 <= value <= 100:
         raise ValueError("sample_rate must be a number from 1 to 100 (Hz)")
     return float(value)
 

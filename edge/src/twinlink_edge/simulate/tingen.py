@@ -33,7 +33,7 @@ GYRO_FULL_SCALE = math.radians(245)
 ACC_FULL_SCALE = 2 * 9.81
 
 
-@dataclass(slots=True)
+@dataclass
 class TingenModel:
     k: float = 0.85  # complementary filter weight (equation 4.2)
     frequency_hz: float = 1.2

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from twinlink.crane.plant import AXES, AXIS_LIMITS
+from ilmatar_crane.plant import AXES, AXIS_LIMITS
 
 
 @dataclass(frozen=True)

@@ -42,10 +42,10 @@ from asyncua.ua.attribute_ids import AttributeIds
 from asyncua.ua.status_codes import StatusCodes
 from asyncua.ua.uaerrors import UaStatusCodeError
 
-from twinlink.crane._http import url_host
-from twinlink.crane.plant import AXES, CranePlant
-from twinlink.crane.settings import OPCUA_NAMESPACE, OPCUA_PATH
-from twinlink.crane.signals import SIGNALS, Signal, axis_of
+from ilmatar_crane._http import url_host
+from ilmatar_crane.plant import AXES, CranePlant
+from ilmatar_crane.settings import OPCUA_NAMESPACE, OPCUA_PATH
+from ilmatar_crane.signals import SIGNALS, Signal, axis_of
 
 log = logging.getLogger(__name__)
 

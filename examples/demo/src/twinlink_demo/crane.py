@@ -19,10 +19,13 @@ from typing import Any
 
 import click
 
+from ilmatar_crane import Crane, CranePorts, start_crane
+from ilmatar_crane._http import can_listen
+from ilmatar_crane.settings import PORT_NAMES
 from twinlink.app import Services
 from twinlink.auth.rights import Principal
-from twinlink.crane import Crane, CranePorts
-from twinlink.crane.settings import PORT_NAMES
+from twinlink.domain.errors import ConflictError, InvalidInputError, NotFoundError
+from twinlink_demo.crane_gateway import HEALTH_PATHS, gateway_auth
 
 CRANE_SLUG = "ilmatar-k16052"
 _NODE = "nsu=http://twinlink.example/ilmatar;s=Ilmatar"
@@ -52,8 +55,6 @@ def plc_connector(url: str) -> dict[str, Any]:
 
 def usual_or_free(host: str, usual: CranePorts = CranePorts()) -> CranePorts:
     """The usual ports, each one something else listens on replaced by 0 (any free one)."""
-    from twinlink.crane._http import can_listen
-
     ports = dataclasses.asdict(usual)
     return CranePorts(**{name: p if can_listen(host, p) else 0 for name, p in ports.items()})
 
@@ -87,8 +88,6 @@ class DemoCrane:
 async def start_crane_services(host: str = "127.0.0.1") -> DemoCrane | None:
     """Start the crane's services on their usual ports, or free ones where those are taken;
     None (said in one line) when they cannot start."""
-    from twinlink.crane.runner import start_crane
-
     usual = CranePorts()
     try:
         crane = await start_crane(host, usual_or_free(host, usual))
@@ -109,8 +108,6 @@ async def start_demo_crane(
     """Configure the gateway's credentials for the crane's services and its OPC UA connector;
     a line for the welcome text and the function that stops the services. Without the crane's
     twin (examples without it) the services are stopped at once: (None, None)."""
-    from twinlink.crane.gateway_auth import HEALTH_PATHS, gateway_auth
-
     crane = demo.crane
     admin = await services.store.get_user_by_name("admin")
     twin = await services.registry.get_twin(CRANE_SLUG)
@@ -148,8 +145,6 @@ async def _disable_plc(services: Services, principal: Principal) -> None:
     """Stop the connector before its server, and keep it stopped: running, it would say its
     server vanished; enabled, the next start would start it (and have it fail to connect)
     before the crane's services are up, which then enable it again (`_plc`)."""
-    from twinlink.domain.errors import InvalidInputError, NotFoundError
-
     # Deleted, or changed by hand into something that cannot run: nothing to stop.
     with contextlib.suppress(NotFoundError, InvalidInputError):
         await services.connectors.update(principal, CRANE_SLUG, "plc", {"enabled": False})
@@ -157,8 +152,6 @@ async def _disable_plc(services: Services, principal: Principal) -> None:
 
 async def _plc(services: Services, principal: Principal, url: str) -> bool:
     """Create the crane's OPC UA connector, or point the existing one at this run's server."""
-    from twinlink.domain.errors import ConflictError, InvalidInputError
-
     body = plc_connector(url)
     try:
         try:

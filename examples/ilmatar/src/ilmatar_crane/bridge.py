@@ -32,8 +32,8 @@ from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
-from twinlink.crane._http import json_body, json_error, page_routes
-from twinlink.crane.settings import OPCUA_NAMESPACE
+from ilmatar_crane._http import json_body, json_error, page_routes
+from ilmatar_crane.settings import OPCUA_NAMESPACE
 
 API_KEY_HEADER = "X-API-Key"
 ENDPOINTS = (

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from twinlink.crane.runner import Crane
+from ilmatar_crane import Crane
 from twinlink.gateway.spec import service_name
 
 # DT document feature (examples/ilmatar/ilmatar-public.yaml) -> the crane service behind it.

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
-from twinlink.crane.step import step_file
+from ilmatar_crane.step import step_file
 
 P2 = tuple[float, float]
 Vec = tuple[float, float, float]

@@ -15,7 +15,7 @@ from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Route
 
-from twinlink.crane._http import health, json_error, page_routes
+from ilmatar_crane._http import health, json_error, page_routes
 
 # IANA registers both (RFC 8877 style registrations of 2020/2021); mimetypes knows neither.
 MEDIA_TYPES = {

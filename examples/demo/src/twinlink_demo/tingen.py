@@ -1,5 +1,5 @@
-"""What `twinlink demo` sets up beside the server: the example twins, the simulated Tingen rig,
-and the Tingen FMU (built from its C source) running on the rig's live stream."""
+"""What `twinlink demo` sets up for Tingen: the simulated rig streaming as the device
+`tingenSAP`, and the Tingen FMU (built from its C source) running on the rig's live stream."""
 
 from __future__ import annotations
 
@@ -10,7 +10,10 @@ from pathlib import Path
 import click
 
 from twinlink.app import Services
-from twinlink.auth.rights import Principal
+from twinlink.domain.errors import ConflictError, NotFoundError
+from twinlink.processors.fmubuild import FmuBuildError, build_if_stale
+from twinlink_demo.examples import admin_principal
+from twinlink_edge.simulate.runner import run_tingen
 
 DEMO_FMU = "Tingen.fmu"
 # The FMU processor of the demo: the rig's tip force in, the simulated tip angle and root
@@ -26,22 +29,14 @@ DEMO_PROCESSOR = {
 }
 
 
-def example_files(folder: Path) -> list[Path]:
-    return sorted(p for p in folder.rglob("*") if p.suffix in (".yaml", ".yml") and p.is_file())
-
-
 async def start_demo_simulator(
     services: Services, base_url: str
 ) -> Callable[[], Awaitable[None]] | None:
     """Give the Tingen twin a device `tingenSAP` (a fresh token each start) and run the
     simulated rig against this server; returns the function that stops it."""
-    from twinlink.domain.errors import ConflictError, NotFoundError
-    from twinlink.simulate.runner import run_tingen
-
-    admin = await services.store.get_user_by_name("admin")
-    if admin is None:
+    principal = await admin_principal(services)
+    if principal is None:
         return None
-    principal = Principal(user=admin)
     try:
         try:
             _, token = await services.devices.create(
@@ -67,50 +62,10 @@ async def start_demo_simulator(
     return stop_simulator
 
 
-# A twin of several documents (the crane's privacy parts) was "created" when any part was.
-_OUTCOMES = ("created", "updated", "unchanged")
-
-
-async def load_examples(
-    services: Services, folder: Path, rewrite: Callable[[str], str] | None = None
-) -> list[str]:
-    """Apply every example document as the admin (each through `rewrite` first, when given);
-    already-loaded ones stay unchanged. One "slug (outcome)" per twin."""
-    from twinlink.domain.errors import ConflictError, DocumentError
-    from twinlink.registry.documents import parse_documents
-
-    admin = await services.store.get_user_by_name("admin")
-    if admin is None:
-        return []
-    principal = Principal(user=admin)
-    outcomes: dict[str, set[str]] = {}
-    for path in example_files(folder):
-        try:
-            text = path.read_text("utf-8")
-            body = (rewrite(text) if rewrite else text).encode()
-            docs = parse_documents(body, "application/yaml", 1 << 24)
-            for result in await services.registry.apply(principal, docs):
-                outcomes.setdefault(result.twin.slug, set()).add(result.outcome)
-        except (DocumentError, ConflictError, UnicodeDecodeError) as err:
-            click.echo(f"example {path} was not loaded: {err}", err=True)
-    return [
-        f"{slug} ({next((o for o in _OUTCOMES if o in seen), '/'.join(sorted(seen)))})"
-        for slug, seen in outcomes.items()
-    ]
-
-
-async def _admin(services: Services) -> Principal | None:
-    admin = await services.store.get_user_by_name("admin")
-    return None if admin is None else Principal(user=admin)
-
-
 async def start_demo_fmu(services: Services, examples: Path) -> str | None:
     """Build the Tingen FMU, upload it to the tingen twin and create its processor (once);
     a line for the welcome text, or None when there is no tingen twin."""
-    from twinlink.domain.errors import ConflictError, NotFoundError
-    from twinlink.processors.fmubuild import FmuBuildError, build_if_stale
-
-    principal = await _admin(services)
+    principal = await admin_principal(services)
     source = examples / "tingen" / "fmu"
     if principal is None or not source.is_dir():
         return None

@@ -1,4 +1,4 @@
-"""`python -m twinlink.crane`: run the crane's example services until SIGINT or SIGTERM."""
+"""`python -m ilmatar_crane`: run the crane's example services until SIGINT or SIGTERM."""
 
 from __future__ import annotations
 
@@ -12,9 +12,9 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from twinlink.crane._http import can_listen
-from twinlink.crane.runner import start_crane
-from twinlink.crane.settings import CranePorts, CraneSettings
+from ilmatar_crane._http import can_listen
+from ilmatar_crane.runner import start_crane
+from ilmatar_crane.settings import CranePorts, CraneSettings
 
 # Scripts wait for this line on stderr; keep its wording stable.
 READY = "crane services ready"
@@ -23,7 +23,7 @@ READY = "crane services ready"
 def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     defaults = CranePorts()
     parser = argparse.ArgumentParser(
-        prog="python -m twinlink.crane",
+        prog="python -m ilmatar_crane",
         description="The Ilmatar crane's example services (demo credentials: docs/crane.md).",
     )
     parser.add_argument("--host", default="127.0.0.1")

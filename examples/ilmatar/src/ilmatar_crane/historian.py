@@ -24,10 +24,10 @@ from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
-from twinlink.crane._http import health, json_body, json_error, page_routes
-from twinlink.crane._tokens import IssuesTokens, TokenStore
-from twinlink.crane.plant import CranePlant
-from twinlink.crane.signals import BY_NAME, SIGNALS
+from ilmatar_crane._http import health, json_body, json_error, page_routes
+from ilmatar_crane._tokens import IssuesTokens, TokenStore
+from ilmatar_crane.plant import CranePlant
+from ilmatar_crane.signals import BY_NAME, SIGNALS
 
 DEFAULT_WINDOW_S = 600.0  # a query without `from` covers the last ten minutes
 DEFAULT_LIMIT = 1000

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from twinlink.crane.plant import AXES, CranePlant
+from ilmatar_crane.plant import AXES, CranePlant
 
 # Each waypoint moves some axes to target positions (m) at the same time. Lowering the hook to
 # the floor picks a load up or sets it down (see CranePlant), so the route alternates the two.

@@ -13,16 +13,16 @@ from pathlib import Path
 
 from starlette.types import ASGIApp
 
-from twinlink.crane._http import HttpService, url_host
-from twinlink.crane.autopilot import Autopilot
-from twinlink.crane.bridge import OpcUaBridge
-from twinlink.crane.cadfiles import write_cad_files
-from twinlink.crane.cadstore import CadStore
-from twinlink.crane.historian import Historian
-from twinlink.crane.opcua import CraneOpcUaServer
-from twinlink.crane.plant import CranePlant
-from twinlink.crane.sensors import SensorManager
-from twinlink.crane.settings import CranePorts, CraneSettings, DemoCredentials
+from ilmatar_crane._http import HttpService, url_host
+from ilmatar_crane.autopilot import Autopilot
+from ilmatar_crane.bridge import OpcUaBridge
+from ilmatar_crane.cadfiles import write_cad_files
+from ilmatar_crane.cadstore import CadStore
+from ilmatar_crane.historian import Historian
+from ilmatar_crane.opcua import CraneOpcUaServer
+from ilmatar_crane.plant import CranePlant
+from ilmatar_crane.sensors import SensorManager
+from ilmatar_crane.settings import CranePorts, CraneSettings, DemoCredentials
 
 log = logging.getLogger(__name__)
 MAX_STEP_S = 1.0  # after a stalled loop, do not let the crane jump across the hall

@@ -23,10 +23,10 @@ from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
-from twinlink.crane._http import health, json_body, json_error, page_routes
-from twinlink.crane._tokens import IssuesTokens, TokenStore
-from twinlink.crane.historian import iso
-from twinlink.crane.plant import CranePlant
+from ilmatar_crane._http import health, json_body, json_error, page_routes
+from ilmatar_crane._tokens import IssuesTokens, TokenStore
+from ilmatar_crane.historian import iso
+from ilmatar_crane.plant import CranePlant
 
 REALM = "sensor-manager"
 ENDPOINTS = (
