@@ -58,9 +58,12 @@ from twinlink.processors.service import ProcessorService
 from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
+from twinlink.store.commands import CommandStore, PropertyStore
 from twinlink.store.sqlite import SqliteStore
+from twinlink.store.sqlite.commands import SqliteCommands
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
+from twinlink.store.sqlite.properties import SqliteProperties
 
 log = logging.getLogger("twinlink.app")
 
@@ -80,7 +83,9 @@ class Services:
     search: SearchService
     devices: DeviceService
     bus: Bus
-    history: SqliteHistory
+    history: SqliteHistory  # concrete: /metrics reads its writer's figures
+    command_store: CommandStore
+    property_store: PropertyStore
     ingest: IngestService
     device_hub: DeviceHub
     commands: CommandService
@@ -115,7 +120,8 @@ def build_services(settings: Settings) -> Services:
     maintenance = HistoryMaintenance(history, settings.history_retention_days)
     registry.deleted_listeners.append(maintenance.twins_deleted)
     ingest = IngestService(registry, history, bus)
-    commands = CommandService(registry, history, hub, settings.command_timeout_s)
+    command_store, property_store = SqliteCommands(history), SqliteProperties(history)
+    commands = CommandService(registry, command_store, hub, settings.command_timeout_s)
     secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
     vault = Vault.open(settings.data_dir, secret_key)
     gateway = GatewayService(
@@ -131,10 +137,12 @@ def build_services(settings: Settings) -> Services:
         devices=devices,
         bus=bus,
         history=history,
+        command_store=command_store,
+        property_store=property_store,
         ingest=ingest,
         device_hub=hub,
         commands=commands,
-        properties=PropertyService(registry, history, hub),
+        properties=PropertyService(registry, property_store, hub),
         live=LiveHub(bus),
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,
@@ -175,8 +183,9 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
     await services.store.open()
     services.auth.last_used.start()
     await services.history.open()
+    await services.command_store.open()
+    await services.property_store.open()
     await services.commands.open()
-    await services.properties.open()
     await services.bus.start()
     await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
     services.history_maintenance.start()
@@ -200,6 +209,8 @@ async def stop_services(services: Services) -> None:
     await services.bus.stop()
     await services.properties.close()
     await services.commands.close()
+    await services.property_store.close()
+    await services.command_store.close()
     await services.history_maintenance.stop()
     await services.history.close()
     await services.auth.last_used.close()  # best effort: a full disk does not stop shutdown

@@ -22,10 +22,10 @@ from tests.integration._util import twin_doc
 from twinlink.app import Services, build_services, start_services, stop_services
 from twinlink.auth.rights import Principal
 from twinlink.bus import samples_subject
-from twinlink.commands.model import CommandRecord
 from twinlink.config import Settings
 from twinlink.connectors.base import LinkHost
 from twinlink.connectors.opcua.connector import OpcUaConnector
+from twinlink.domain.commands import CommandRecord
 from twinlink.domain.records import Device, TwinRecord
 from twinlink.domain.samples import SampleBatch
 from twinlink.registry.documents import parse_documents

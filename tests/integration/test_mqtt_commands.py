@@ -23,7 +23,7 @@ from tests.integration._mqtt import (
     require_mosquitto,
     until,
 )
-from twinlink.commands.model import CommandRecord
+from twinlink.domain.commands import CommandRecord
 from twinlink.ingest.mqtt import packets as mq
 
 pytestmark = pytest.mark.integration

@@ -29,7 +29,7 @@ from tests.integration._opcua import (
 )
 from tests.integration._opcua import platform as platform
 from tests.integration.test_opcua_security import SERVER_URI, write_identity
-from twinlink.commands.model import CommandRecord
+from twinlink.domain.commands import CommandRecord
 
 pytestmark = [pytest.mark.integration, pytest.mark.asyncio(loop_scope="module")]
 

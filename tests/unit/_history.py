@@ -1,6 +1,11 @@
-"""Helpers for the history read-side tests: a SqliteHistory in tmp_path, and writing rows
-through the real group-commit writer. A module opts in to the fixture by importing it
-(`from tests.unit._history import history as history`)."""
+"""Helpers for the history tests: the store under test in tmp_path, and writing rows through
+its real write path. A module opts in to a fixture by importing it
+(`from tests.unit._history import history as history`).
+
+`history` is a `HistoryStore` of every backend in turn (`_storage.BACKENDS`): tests that take
+it check behaviour any backend must have, through the protocol only. `sqlite_history` is the
+SQLite store, for tests of its own workings (blocks, staging, sketches, the WAL).
+"""
 
 from __future__ import annotations
 
@@ -10,7 +15,9 @@ from typing import Any
 
 import pytest
 
+from tests.unit._storage import BACKENDS
 from twinlink.domain.samples import SampleBatch, Value
+from twinlink.store.history import HistoryStore, HistoryWriterStore
 from twinlink.store.sqlite.history import SqliteHistory
 
 T = 1_704_067_200 * 10**9  # 2024-01-01T00:00:00Z in ns
@@ -19,8 +26,14 @@ TWIN = 7
 STREAM = "telemetry"
 
 
+@pytest.fixture(params=list(BACKENDS))
+async def history(request: pytest.FixtureRequest, tmp_path: Path) -> AsyncIterator[HistoryStore]:
+    async with BACKENDS[request.param](tmp_path) as stores:
+        yield stores.history
+
+
 @pytest.fixture
-async def history(tmp_path: Path) -> AsyncIterator[SqliteHistory]:
+async def sqlite_history(tmp_path: Path) -> AsyncIterator[SqliteHistory]:
     h = SqliteHistory(tmp_path / "data", "normal")
     await h.open()
     try:
@@ -30,7 +43,7 @@ async def history(tmp_path: Path) -> AsyncIterator[SqliteHistory]:
 
 
 async def write(
-    history: SqliteHistory,
+    history: HistoryWriterStore,
     rows: list[tuple[int, dict[str, Value]]],
     *,
     twin_id: int = TWIN,
@@ -49,7 +62,7 @@ async def write(
 
 
 async def write_column(
-    history: SqliteHistory, signal: str, times: list[int], values: list[Any], block: int
+    history: HistoryWriterStore, signal: str, times: list[int], values: list[Any], block: int
 ) -> None:
     """One signal's samples, `block` samples per batch (so per block)."""
     for i in range(0, len(times), block):

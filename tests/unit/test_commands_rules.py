@@ -13,10 +13,10 @@ from twinlink.commands.rules import (
     check_desired,
     check_reported,
     rules_from_interface,
-    same_value,
 )
 from twinlink.domain.errors import InvalidInputError
 from twinlink.domain.jsontext import int64_problem
+from twinlink.domain.properties import same_value
 
 RULES = rules_from_interface(
     {

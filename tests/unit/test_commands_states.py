@@ -4,17 +4,17 @@ from __future__ import annotations
 
 import asyncio
 import base64
-import sqlite3
 import time
-from collections.abc import Callable
 from typing import Any
 
 import pytest
 
-from twinlink.commands.db import WriteBehind, command_row, record_from_row
-from twinlink.commands.model import CommandRecord, iso_time, new_command_id
-from twinlink.commands.state import DeviceProperties
-from twinlink.registry.build import human_time
+from twinlink.commands.write_behind import WriteBehind
+from twinlink.domain.commands import CommandRecord, iso_time, new_command_id
+from twinlink.domain.doctime import human_time
+from twinlink.domain.properties import DeviceProperties
+from twinlink.store.sqlite.commands import command_row, record_from_row
+from twinlink.store.sqlite.properties import property_rows
 
 
 def _record(**changes: Any) -> CommandRecord:
@@ -87,23 +87,15 @@ def test_rows_round_trip() -> None:
 
 
 async def test_write_behind_coalesces_and_sync_waits_for_the_commit() -> None:
-    commits: list[list[tuple[Any, ...]]] = []
+    commits: list[list[tuple[str, str]]] = []
     gate, started = asyncio.Event(), asyncio.Event()
 
-    async def write(fn: Callable[[sqlite3.Connection], Any]) -> Any:
+    async def save(records: list[CommandRecord]) -> None:
         started.set()
         await gate.wait()
-        conn = sqlite3.connect(":memory:")
-        try:
-            conn.execute("CREATE TABLE commands (id TEXT PRIMARY KEY, twin_id, device_id, device,"
-                         " name, args, state, queued, sent_by, created_ns, expires_ns,"
-                         " delivered_ns, finished_ns, result, error, late_status)")  # fmt: skip
-            fn(conn)
-            commits.append(conn.execute("SELECT id, state FROM commands").fetchall())
-        finally:
-            conn.close()
+        commits.append([(r.id, r.state) for r in records])
 
-    log = WriteBehind(write)
+    log = WriteBehind(save)
     a, b = _record(), _record()
     log.save(a)
     log.save(b)
@@ -131,4 +123,4 @@ def test_device_properties_delta_and_versions() -> None:
     view = p.view()
     assert view["desired"] == {"rate": {"value": 50, "time": "1970-01-01T00:00:00.000Z"}}
     assert view["reported"]["mode"]["value"] == "fast" and view["version"] == 2
-    assert p.rows(["mode"]) == [(1, "mode", '"fast"', 20, None, None)]
+    assert property_rows(p, ["mode"]) == [(1, "mode", '"fast"', 20, None, None)]

@@ -8,8 +8,9 @@ import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
-from twinlink.store.sqlite.history import SqliteHistory
-from twinlink.store.sqlite.history.aggregate import FUNCTIONS, Partials, sample_partials
+from twinlink.domain.history import FUNCTIONS
+from twinlink.store.history import HistoryStore
+from twinlink.store.sqlite.history.partials import Partials, sample_partials
 
 ALL = list(FUNCTIONS)
 
@@ -80,9 +81,7 @@ def test_integer_partials_are_exact_and_sums_do_not_overflow() -> None:
 
 @pytest.mark.parametrize("block", [1, 3, 10, 64])
 @pytest.mark.parametrize("width_s", [1, 4, 30])
-async def test_matches_a_plain_computation(
-    history: SqliteHistory, block: int, width_s: int
-) -> None:
+async def test_matches_a_plain_computation(history: HistoryStore, block: int, width_s: int) -> None:
     rng = np.random.default_rng(block * 100 + width_s)
     times = (T + np.cumsum(rng.integers(1, 400, 300)) * 10**7).tolist()  # 10 ms steps
     values = rng.normal(size=300).round(3).tolist()
@@ -94,7 +93,7 @@ async def test_matches_a_plain_computation(
     assert_close(answer(got.rows), expected(times, values, start, end, width))
 
 
-async def test_late_and_overlapping_blocks(history: SqliteHistory) -> None:
+async def test_late_and_overlapping_blocks(history: HistoryStore) -> None:
     times = [T + i * S // 2 for i in range(40)]
     values = [float(i % 7) for i in range(40)]
     await write_column(history, "x", times[::2], values[::2], 4)  # every other sample first
@@ -103,7 +102,7 @@ async def test_late_and_overlapping_blocks(history: SqliteHistory) -> None:
     assert_close(answer(got.rows), expected(times, values, T, T + 30 * S, 3 * S))
 
 
-async def test_buckets_are_aligned_to_the_epoch(history: SqliteHistory) -> None:
+async def test_buckets_are_aligned_to_the_epoch(history: HistoryStore) -> None:
     await write_column(history, "x", [T + 7 * S + i * S for i in range(10)], list(range(10)), 10)
     got = await history.aggregate(TWIN, STREAM, ["x"], T, T + 60 * S, 5 * S, ["count", "min"])
     assert [(r["time"] - T) // S for r in got.rows] == [5, 10, 15]
@@ -115,7 +114,7 @@ async def test_buckets_are_aligned_to_the_epoch(history: SqliteHistory) -> None:
 
 
 async def test_signals_share_rows_and_ints_and_bools_count_as_numbers(
-    history: SqliteHistory,
+    history: HistoryStore,
 ) -> None:
     await write(history, [(T, {"n": 2, "on": True}), (T + S, {"n": 4, "on": False})])
     await write(history, [(T + 10 * S, {"n": 6})])
@@ -129,7 +128,7 @@ async def test_signals_share_rows_and_ints_and_bools_count_as_numbers(
 
 
 async def test_text_signals_are_reported_and_mixed_batches_keep_their_numbers(
-    history: SqliteHistory,
+    history: HistoryStore,
 ) -> None:
     await write(history, [(T, {"mode": "run", "x": 1}), (T + S, {"mode": "idle", "x": "n/a"})])
     await write(history, [(T + 2 * S, {"x": 3})])
@@ -138,7 +137,7 @@ async def test_text_signals_are_reported_and_mixed_batches_keep_their_numbers(
     assert got.rows == [{"time": T, "values": {"x": {"count": 2, "sum": 4.0}}}]
 
 
-async def test_an_empty_range_has_no_rows(history: SqliteHistory) -> None:
+async def test_an_empty_range_has_no_rows(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1})])
     got = await history.aggregate(TWIN, STREAM, None, T + S, T + 9 * S, S, ALL)
     assert got.rows == [] and got.text_only == []
@@ -148,7 +147,7 @@ BIG = 1682921346513461498  # ns since the epoch sent as a value: float64 rounds 
 
 
 @pytest.mark.parametrize("block", [1, 4, 50])
-async def test_integers_above_2_53_stay_exact(history: SqliteHistory, block: int) -> None:
+async def test_integers_above_2_53_stay_exact(history: HistoryStore, block: int) -> None:
     times = [T + i * S for i in range(200)]
     values = [BIG + (i * 7919) % 1000 - 500 for i in range(200)]
     await write_column(history, "n", times, values, block)
@@ -166,7 +165,7 @@ async def test_integers_above_2_53_stay_exact(history: SqliteHistory, block: int
     assert len(got.rows) == 20
 
 
-async def test_integer_sums_are_exact_where_block_sums_are_not(history: SqliteHistory) -> None:
+async def test_integer_sums_are_exact_where_block_sums_are_not(history: HistoryStore) -> None:
     # Every value is exact in float64, but the sum of a block of 16 is past 2^53: the stored
     # REAL vsum is rounded, so the block is read instead of summarised.
     values = [2**50 + 2 * i + 1 for i in range(64)]

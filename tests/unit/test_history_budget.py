@@ -14,16 +14,17 @@ from typing import Any
 import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
-from tests.unit._history import history as history  # fixture
+from tests.unit._history import sqlite_history as sqlite_history  # fixture
 from twinlink.api.history import ExportResponse
-from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
-from twinlink.store.sqlite.history.budget import (
+from twinlink.domain.history import (
+    MAX_TIME,
+    MIN_TIME,
     QueryTimeoutError,
     QueryTooLargeError,
-    ReadBudget,
     ReadCancelledError,
 )
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
+from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
+from twinlink.store.sqlite.history.budget import ReadBudget
 
 # A statement that never ends by itself: only an interrupt stops it.
 FOREVER = "WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c) SELECT count(*) FROM c"
@@ -42,22 +43,26 @@ async def until(check: Any, what: str, timeout_s: float = 10.0) -> None:
 
 
 async def test_a_read_over_its_time_is_stopped_with_the_setting_to_change(
-    history: SqliteHistory,
+    sqlite_history: SqliteHistory,
 ) -> None:
     with pytest.raises(QueryTimeoutError, match=r"TWINLINK_HISTORY_QUERY_TIMEOUT_S \(0\.05 s\)"):
-        await history.reader.run(forever, ReadBudget(0.05, 10))
-    await write(history, [(T, {"x": 1.0})])
-    assert (await history.latest(TWIN, STREAM, None))["x"]["value"] == 1.0  # the pool is fine
+        await sqlite_history.reader.run(forever, ReadBudget(0.05, 10))
+    await write(sqlite_history, [(T, {"x": 1.0})])
+    assert (await sqlite_history.latest(TWIN, STREAM, None))["x"][
+        "value"
+    ] == 1.0  # the pool is fine
 
 
-async def test_closing_stops_running_reads_instead_of_waiting(history: SqliteHistory) -> None:
-    running = asyncio.ensure_future(history.reader.run(forever, ReadBudget(3600, 10)))
-    await until(lambda: history.reader.steps == 1, "the read to start")
-    await asyncio.wait_for(history.reader.close(), 10)
+async def test_closing_stops_running_reads_instead_of_waiting(
+    sqlite_history: SqliteHistory,
+) -> None:
+    running = asyncio.ensure_future(sqlite_history.reader.run(forever, ReadBudget(3600, 10)))
+    await until(lambda: sqlite_history.reader.steps == 1, "the read to start")
+    await asyncio.wait_for(sqlite_history.reader.close(), 10)
     with pytest.raises(ReadCancelledError, match="shutting down"):
         await running
     with pytest.raises(ReadCancelledError):  # and no read starts after
-        await history.latest(TWIN, STREAM, None)
+        await sqlite_history.latest(TWIN, STREAM, None)
 
 
 async def many_pieces(history: SqliteHistory) -> None:
@@ -65,22 +70,22 @@ async def many_pieces(history: SqliteHistory) -> None:
     await write_column(history, "a", times, [float(i) for i in range(200_000)], 20_000)
 
 
-async def test_an_export_whose_reader_stops_stops_its_work(history: SqliteHistory) -> None:
-    await many_pieces(history)
-    _, pieces = await history.export(TWIN, STREAM, None, MIN_TIME, MAX_TIME, "jsonl", "ns")
+async def test_an_export_whose_reader_stops_stops_its_work(sqlite_history: SqliteHistory) -> None:
+    await many_pieces(sqlite_history)
+    _, pieces = await sqlite_history.export(TWIN, STREAM, None, MIN_TIME, MAX_TIME, "jsonl", "ns")
     assert b'"a":0.0' in await anext(pieces)  # type: ignore[call-overload]
-    assert history.reader.open_streams == 1
+    assert sqlite_history.reader.open_streams == 1
     await pieces.aclose()  # type: ignore[attr-defined]
-    await until(lambda: history.reader.open_streams == 0, "the export to close")
-    steps = history.reader.steps
+    await until(lambda: sqlite_history.reader.open_streams == 0, "the export to close")
+    steps = sqlite_history.reader.steps
     assert steps <= 3  # the whole export is about 90 pieces: it stopped after the first
-    await write(history, [(T, {"b": 1})])  # the reader still works for others
-    assert (await history.latest(TWIN, STREAM, ["b"]))["b"]["value"] == 1
+    await write(sqlite_history, [(T, {"b": 1})])  # the reader still works for others
+    assert (await sqlite_history.latest(TWIN, STREAM, ["b"]))["b"]["value"] == 1
 
 
-async def test_a_client_that_disconnects_stops_the_export(history: SqliteHistory) -> None:
-    await many_pieces(history)
-    _, pieces = await history.export(TWIN, STREAM, None, MIN_TIME, MAX_TIME, "csv", "iso")
+async def test_a_client_that_disconnects_stops_the_export(sqlite_history: SqliteHistory) -> None:
+    await many_pieces(sqlite_history)
+    _, pieces = await sqlite_history.export(TWIN, STREAM, None, MIN_TIME, MAX_TIME, "csv", "iso")
     response = ExportResponse(pieces, "csv", "text/csv", "x.csv")
     sent: list[dict[str, Any]] = []
     gone = asyncio.Event()
@@ -96,10 +101,10 @@ async def test_a_client_that_disconnects_stops_the_export(history: SqliteHistory
 
     scope = {"type": "http", "asgi": {"spec_version": "2.3"}}
     await asyncio.wait_for(response(scope, receive, send), 10)
-    await until(lambda: history.reader.open_streams == 0, "the export to close")
+    await until(lambda: sqlite_history.reader.open_streams == 0, "the export to close")
     assert sent[0]["type"] == "http.response.start"
     assert all(m.get("more_body", True) for m in sent)  # never finished
-    assert history.reader.steps <= 3
+    assert sqlite_history.reader.steps <= 3
 
 
 async def test_an_export_over_its_time_is_cut_visibly(tmp_path: Path) -> None:

@@ -10,6 +10,8 @@ import pytest
 import twinlink.store.sqlite.history as history_module
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
+from tests.unit._history import sqlite_history as sqlite_history  # fixture
+from twinlink.store.history import HistoryStore
 from twinlink.store.sqlite.history import SqliteHistory, staging, streams
 from twinlink.store.sqlite.history.compact import MAX_SAMPLES, MAX_SPAN_NS, SMALL, plan_runs
 
@@ -33,7 +35,7 @@ def _blocks(history: SqliteHistory, signal: str) -> list[tuple[int, int, int, st
         conn.close()
 
 
-async def _reads(history: SqliteHistory) -> dict[str, object]:
+async def _reads(history: HistoryStore) -> dict[str, object]:
     """What every kind of read answers for the first minute, in comparable form."""
     fns = ["avg", "min", "max", "count", "first", "last"]
     end = T + 60 * S
@@ -69,57 +71,60 @@ def test_runs_group_neighbours_up_to_the_limits() -> None:
     assert plan_runs([small[0]]) == []
 
 
-async def test_small_blocks_become_one_and_reads_do_not_change(history: SqliteHistory) -> None:
+async def test_small_blocks_become_one_and_reads_do_not_change(
+    sqlite_history: SqliteHistory,
+) -> None:
     times = [T + i * 10_000_000 for i in range(3000)]  # 100 Hz, 30 s
     values = [float((i * 37) % 1000) + i * 1e-6 for i in range(3000)]  # no ties for min/max
-    await write_column(history, "x", times, values, block=5)
-    await write_column(history, "n", times, list(range(3000)), block=5)
-    before = await _reads(history)
-    assert len(_blocks(history, "x")) == 600
-    done = await history.compact()
-    assert (done.blocks_before, done.blocks_after) == (1200, 2)
-    assert [(b[2], b[3]) for b in _blocks(history, "x")] == [(3000, "f")]
-    assert [(b[2], b[3]) for b in _blocks(history, "n")] == [(3000, "i")]
-    assert await _reads(history) == before
-    assert (await history.compact()).blocks_before == 0  # nothing new: nothing to do
+    await write_column(sqlite_history, "x", times, values, block=5)
+    await write_column(sqlite_history, "n", times, list(range(3000)), block=5)
+    before = await _reads(sqlite_history)
+    assert len(_blocks(sqlite_history, "x")) == 600
+    done = await sqlite_history.compact()
+    assert (done.before, done.after) == (1200, 2)
+    assert [(b[2], b[3]) for b in _blocks(sqlite_history, "x")] == [(3000, "f")]
+    assert [(b[2], b[3]) for b in _blocks(sqlite_history, "n")] == [(3000, "i")]
+    assert await _reads(sqlite_history) == before
+    assert (await sqlite_history.compact()).before == 0  # nothing new: nothing to do
 
 
-async def test_merged_blocks_respect_the_sample_limit(history: SqliteHistory) -> None:
+async def test_merged_blocks_respect_the_sample_limit(sqlite_history: SqliteHistory) -> None:
     count = MAX_SAMPLES * 2 + 500
     times = [T + i * 1_000_000 for i in range(count)]  # 1 kHz
-    await write_column(history, "x", times, [1.0] * count, block=50)
-    await history.compact()
-    sizes = [b[2] for b in _blocks(history, "x")]
+    await write_column(sqlite_history, "x", times, [1.0] * count, block=50)
+    await sqlite_history.compact()
+    sizes = [b[2] for b in _blocks(sqlite_history, "x")]
     assert sum(sizes) == count and max(sizes) <= MAX_SAMPLES and len(sizes) == 3
 
 
 async def test_a_merged_block_is_found_by_a_range_query_inside_it(
-    history: SqliteHistory,
+    sqlite_history: SqliteHistory,
 ) -> None:
     # The merged block spans more than any block written before: a query for its last
     # second must still find it (series.max_span_ns grows with it, also in the writer's cache).
     times = [T + i * S // 10 for i in range(500)]  # 10 Hz, 50 s, in blocks of 0.4 s
-    await write_column(history, "x", times, list(range(500)), block=4)
-    await history.compact()
-    await write(history, [(T + 100 * S, {"x": 1000})])  # a new batch: the cache must be right
-    page = await history.samples(TWIN, STREAM, ["x"], T + 49 * S, T + 49 * S + S // 2, 100)
+    await write_column(sqlite_history, "x", times, list(range(500)), block=4)
+    await sqlite_history.compact()
+    # a new batch: the cache must be right
+    await write(sqlite_history, [(T + 100 * S, {"x": 1000})])
+    page = await sqlite_history.samples(TWIN, STREAM, ["x"], T + 49 * S, T + 49 * S + S // 2, 100)
     assert [row["values"]["x"] for row in page.rows] == list(range(490, 496))  # end included
 
 
 async def test_equal_times_keep_arrival_order_and_mixed_kinds_merge(
-    history: SqliteHistory,
+    sqlite_history: SqliteHistory,
 ) -> None:
-    await write(history, [(T, {"v": 1})])
-    await write(history, [(T, {"v": 2.5})])
-    await write(history, [(T + S, {"v": "text"})])
-    await write(history, [(T + 2 * S, {"v": True})])
-    await history.compact()
-    assert [(b[2], b[3]) for b in _blocks(history, "v")] == [(4, "j")]
-    page = await history.samples(TWIN, STREAM, ["v"], T, T + 3 * S, 10)
+    await write(sqlite_history, [(T, {"v": 1})])
+    await write(sqlite_history, [(T, {"v": 2.5})])
+    await write(sqlite_history, [(T + S, {"v": "text"})])
+    await write(sqlite_history, [(T + 2 * S, {"v": True})])
+    await sqlite_history.compact()
+    assert [(b[2], b[3]) for b in _blocks(sqlite_history, "v")] == [(4, "j")]
+    page = await sqlite_history.samples(TWIN, STREAM, ["v"], T, T + 3 * S, 10)
     assert [row["values"]["v"] for row in page.rows] == [1, 2.5, "text", True]
 
 
-async def test_history_of_twins_that_no_longer_exist_is_swept(history: SqliteHistory) -> None:
+async def test_history_of_twins_that_no_longer_exist_is_swept(history: HistoryStore) -> None:
     from twinlink.history.maintenance import HistoryMaintenance
 
     await write(history, [(T, {"x": 1})], twin_id=7)
@@ -131,38 +136,38 @@ async def test_history_of_twins_that_no_longer_exist_is_swept(history: SqliteHis
 
 
 async def test_a_merged_block_keeps_the_hash_of_its_times(
-    history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
+    sqlite_history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     times = [T + i * 10_000_000 for i in range(3000)]
-    await write_column(history, "x", times, [1.0] * 3000, block=5)  # merged by compaction
-    await write_column(history, "n", times, list(range(3000)), block=3000)  # left alone
-    await history.compact()
+    await write_column(sqlite_history, "x", times, [1.0] * 3000, block=5)  # merged by compaction
+    await write_column(sqlite_history, "n", times, list(range(3000)), block=3000)  # left alone
+    await sqlite_history.compact()
 
     def unread(*_: object) -> int:
         raise AssertionError("equal times hashes: nothing to read")
 
     monkeypatch.setattr(streams, "row_count", unread)
-    [stream] = await history.streams(TWIN)
+    [stream] = await sqlite_history.streams(TWIN)
     assert (stream["samples"], stream["values"]) == (3000, 6000)
 
 
 async def test_a_long_series_is_compacted_over_several_rounds(
-    history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
+    sqlite_history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr(history_module, "COMPACT_ROUND_SAMPLES", 500)
     rounds = 0
-    write = history.writer.write
+    write = sqlite_history.writer.write
 
     async def counted(fn: Any) -> Any:
         nonlocal rounds
         rounds += 1
         return await write(fn)
 
-    monkeypatch.setattr(history.writer, "write", counted)
+    monkeypatch.setattr(sqlite_history.writer, "write", counted)
     times = [T + i * 10_000_000 for i in range(15_000)]  # 100 Hz, 150 s, in blocks of 100
-    await write_column(history, "x", times, [float(i) for i in range(15_000)], block=100)
-    before = await _reads(history)
-    done = await history.compact()
-    assert (done.blocks_before, done.blocks_after) == (150, 3)  # runs of 60 s
+    await write_column(sqlite_history, "x", times, [float(i) for i in range(15_000)], block=100)
+    before = await _reads(sqlite_history)
+    done = await sqlite_history.compact()
+    assert (done.before, done.after) == (150, 3)  # runs of 60 s
     assert rounds == 3  # a run a round: each is more than 500 samples
-    assert await _reads(history) == before
+    assert await _reads(sqlite_history) == before

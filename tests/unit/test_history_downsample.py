@@ -10,7 +10,7 @@ import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.history import HistoryStore
 from twinlink.store.sqlite.history.downsample import SUMMARIES_FROM, lttb
 
 # The module (the package's `downsample` is its function).
@@ -88,7 +88,7 @@ def paths(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> st
 
 @pytest.mark.parametrize("block", [1, 2, 50, 400])
 async def test_minmax_is_each_buckets_min_and_max(
-    history: SqliteHistory, block: int, paths: str
+    history: HistoryStore, block: int, paths: str
 ) -> None:
     times, values = series(4000, block)
     await write_column(history, "x", times, values, block)
@@ -103,7 +103,7 @@ async def test_minmax_is_each_buckets_min_and_max(
 
 @pytest.mark.parametrize(("first", "late"), [(1, 3), (700, 900)])
 async def test_minmax_with_late_overlapping_blocks(
-    history: SqliteHistory, first: int, late: int, paths: str
+    history: HistoryStore, first: int, late: int, paths: str
 ) -> None:
     times, values = series(3000, 5)
     await write_column(history, "x", times[::2], values[::2], first)
@@ -116,7 +116,7 @@ async def test_minmax_with_late_overlapping_blocks(
 @pytest.mark.parametrize("method", ["minmax", "lttb"])
 @pytest.mark.parametrize("block", [3, 1000])
 async def test_a_single_spike_survives(
-    history: SqliteHistory, method: str, block: int, paths: str
+    history: HistoryStore, method: str, block: int, paths: str
 ) -> None:
     n = 6_000
     times = [T + i * 10**6 for i in range(n)]
@@ -131,7 +131,7 @@ async def test_a_single_spike_survives(
     assert kept == sorted(kept)
 
 
-async def test_few_samples_come_back_whole(history: SqliteHistory) -> None:
+async def test_few_samples_come_back_whole(history: HistoryStore) -> None:
     times, values = series(30, 9)
     await write_column(history, "x", times, values, 7)
     for method in ("minmax", "lttb"):
@@ -139,7 +139,7 @@ async def test_few_samples_come_back_whole(history: SqliteHistory) -> None:
         assert pairs(got["x"]) == list(zip(times, values, strict=True))
 
 
-async def test_lttb_on_raw_samples_is_exact_lttb(history: SqliteHistory) -> None:
+async def test_lttb_on_raw_samples_is_exact_lttb(history: HistoryStore) -> None:
     times, values = series(300, 11)
     await write_column(history, "x", times, values, 25)
     got = await history.downsample(TWIN, STREAM, ["x"], times[0], times[-1], 100, "lttb")
@@ -148,7 +148,7 @@ async def test_lttb_on_raw_samples_is_exact_lttb(history: SqliteHistory) -> None
     assert pairs(got["x"]) == [(times[i], values[i]) for i in want]
 
 
-async def test_text_signals_are_flagged_and_bools_are_numbers(history: SqliteHistory) -> None:
+async def test_text_signals_are_flagged_and_bools_are_numbers(history: HistoryStore) -> None:
     await write(history, [(T + i * S, {"mode": "run", "on": i % 2 == 0}) for i in range(10)])
     got = await history.downsample(TWIN, STREAM, None, T, T + 9 * S, 4, "minmax")
     assert got["mode"].text_only and got["mode"].times.size == 0
@@ -158,7 +158,7 @@ async def test_text_signals_are_flagged_and_bools_are_numbers(history: SqliteHis
 
 @pytest.mark.parametrize("offset", [0, 1682921346513461498])  # small, and past 2^53
 async def test_integer_signals_come_back_as_their_exact_values(
-    history: SqliteHistory, offset: int, paths: str
+    history: HistoryStore, offset: int, paths: str
 ) -> None:
     rng = np.random.default_rng(offset % 1000)
     times = (T + np.cumsum(rng.integers(1, 3, 3000)) * 10**7).tolist()

@@ -11,12 +11,12 @@ import orjson
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.domain.history import MAX_TIME, MIN_TIME
+from twinlink.store.history import HistoryStore
 from twinlink.store.sqlite.history.export import csv_cell, iso_times
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 
-async def export(history: SqliteHistory, fmt: str, time_format: str, **kw: object) -> bytes:
+async def export(history: HistoryStore, fmt: str, time_format: str, **kw: object) -> bytes:
     signals = kw.get("signals")
     start, end = kw.get("start", MIN_TIME), kw.get("end", MAX_TIME)
     _, pieces = await history.export(TWIN, STREAM, signals, start, end, fmt, time_format)  # type: ignore[arg-type]
@@ -44,7 +44,7 @@ def test_iso_times_have_nanoseconds_and_z() -> None:
     ]
 
 
-async def test_csv_has_a_header_iso_times_and_empty_cells(history: SqliteHistory) -> None:
+async def test_csv_has_a_header_iso_times_and_empty_cells(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1.5, "n": 2}), (T + 1, {"x": 2.0, "note": 'a "b", c'})])
     await write(history, [(T + S, {"on": True})])
     text = (await export(history, "csv", "iso")).decode()
@@ -58,7 +58,7 @@ async def test_csv_has_a_header_iso_times_and_empty_cells(history: SqliteHistory
     assert ns == ["time,x", f"{T},1.5", f"{T + 1},2.0"]
 
 
-async def test_jsonl_and_json_array(history: SqliteHistory) -> None:
+async def test_jsonl_and_json_array(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1, "s": "a"}), (T + S, {"x": 2})])
     lines = (await export(history, "jsonl", "ns")).splitlines()
     assert [orjson.loads(line) for line in lines] == [
@@ -74,7 +74,7 @@ async def test_jsonl_and_json_array(history: SqliteHistory) -> None:
     assert await export(history, "jsonl", "ns", start=T + 10 * S) == b""
 
 
-async def test_a_large_range_streams_in_pieces_equal_to_the_rows(history: SqliteHistory) -> None:
+async def test_a_large_range_streams_in_pieces_equal_to_the_rows(history: HistoryStore) -> None:
     n = 30_000
     rng = np.random.default_rng(2)
     times = (T + np.cumsum(rng.integers(0, 3, n)) * 10**6).tolist()  # some equal times
@@ -92,7 +92,7 @@ async def test_a_large_range_streams_in_pieces_equal_to_the_rows(history: Sqlite
     assert sum(len(r["values"]) for r in rows) == n + len(times[::3]) + len(times[5::50])
 
 
-async def test_stopping_early_closes_the_export(history: SqliteHistory) -> None:
+async def test_stopping_early_closes_the_export(history: HistoryStore) -> None:
     await write_column(history, "a", [T + i for i in range(50_000)], [1.0] * 50_000, 5000)
     _, pieces = await history.export(TWIN, STREAM, None, MIN_TIME, MAX_TIME, "csv", "iso")
     first = await anext(pieces)  # type: ignore[call-overload]

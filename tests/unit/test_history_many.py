@@ -16,10 +16,11 @@ import orjson
 import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write
-from tests.unit._history import history as history  # fixture
+from tests.unit._history import sqlite_history as sqlite_history  # fixture
+from twinlink.domain.history import MAX_TIME, MIN_TIME
 from twinlink.domain.samples import Value
+from twinlink.store.history import HistoryStore
 from twinlink.store.sqlite.history import SqliteHistory, budget, reader, scan, staging
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 Batch = list[tuple[int, dict[str, Value]]]
 
@@ -56,19 +57,19 @@ class Reference:
         return [{"time": t, "values": joined[t, k]} for t, k in sorted(joined)]
 
 
-async def store(history: SqliteHistory, ref: Reference, rows: Batch) -> None:
+async def store(history: HistoryStore, ref: Reference, rows: Batch) -> None:
     await write(history, rows)
     ref.add(rows)
 
 
 @pytest.fixture
-def wide(history: SqliteHistory) -> SqliteHistory:
+def wide(sqlite_history: SqliteHistory) -> SqliteHistory:
     """The history, with the writer's cap on signals per stream out of the way."""
-    history.writer.max_signals_per_stream = 10**6
-    return history
+    sqlite_history.writer.max_signals_per_stream = 10**6
+    return sqlite_history
 
 
-async def everything(history: SqliteHistory, limit: int = 10**6, **kw: Any) -> list[Any]:
+async def everything(history: HistoryStore, limit: int = 10**6, **kw: Any) -> list[Any]:
     rows, after = [], None
     while True:
         page = await history.samples(
@@ -81,7 +82,7 @@ async def everything(history: SqliteHistory, limit: int = 10**6, **kw: Any) -> l
         after = page.next_key
 
 
-async def exported(history: SqliteHistory, fmt: str, **kw: Any) -> bytes:
+async def exported(history: HistoryStore, fmt: str, **kw: Any) -> bytes:
     signals, start, end = kw.get("signals"), kw.get("start", MIN_TIME), kw.get("end", MAX_TIME)
     _, pieces = await history.export(TWIN, STREAM, signals, start, end, fmt, "ns")
     return b"".join([p async for p in pieces])
@@ -246,7 +247,7 @@ class Counted:
         return done
 
 
-async def work(history: SqliteHistory, counted: Counted) -> dict[str, tuple[int, int]]:
+async def work(history: HistoryStore, counted: Counted) -> dict[str, tuple[int, int]]:
     """(statements, VM steps) of each kind of read over the whole stream."""
     out = {}
     counted.reset()

@@ -11,13 +11,15 @@ import pytest
 
 from tests.unit._history import STREAM, TWIN, S, T, write, write_column
 from tests.unit._history import history as history  # fixture
+from tests.unit._history import sqlite_history as sqlite_history  # fixture
 from twinlink.domain.errors import NotFoundError
+from twinlink.domain.history import MAX_TIME, MIN_TIME
+from twinlink.store.history import HistoryStore
 from twinlink.store.sqlite.history import SqliteHistory
 from twinlink.store.sqlite.history.merge import join, occurrence_ranks
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 
-async def all_rows(history: SqliteHistory, signals: list[str] | None = None, **kw: int) -> list:
+async def all_rows(history: HistoryStore, signals: list[str] | None = None, **kw: int) -> list:
     page = await history.samples(
         TWIN, STREAM, signals, kw.get("start", MIN_TIME), kw.get("end", MAX_TIME), 1_000_000
     )
@@ -45,7 +47,7 @@ def test_join_pairs_equal_times_and_keeps_every_sample() -> None:
     ]
 
 
-async def test_streams_list_signals_with_kind_count_and_times(history: SqliteHistory) -> None:
+async def test_streams_list_signals_with_kind_count_and_times(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1.5, "n": 1, "on": True, "mode": "run"}), (T + S, {"x": 2})])
     await write(history, [(T + 2 * S, {"x": 3})], stream="imu")
     await write(history, [(T, {"x": 1})], twin_id=TWIN + 1)
@@ -66,7 +68,7 @@ async def test_streams_list_signals_with_kind_count_and_times(history: SqliteHis
 
 
 async def test_latest_is_the_newest_value_even_when_an_old_batch_comes_late(
-    history: SqliteHistory,
+    history: HistoryStore,
 ) -> None:
     await write(history, [(T + 5 * S, {"x": 5.0, "mode": "run"})])
     await write(history, [(T + S, {"x": 1.0, "mode": "idle"})])  # late
@@ -78,7 +80,7 @@ async def test_latest_is_the_newest_value_even_when_an_old_batch_comes_late(
     assert await history.latest(TWIN, STREAM, ["x"]) == {"x": latest["x"]}
 
 
-async def test_unknown_stream_or_signal_names_what_exists(history: SqliteHistory) -> None:
+async def test_unknown_stream_or_signal_names_what_exists(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1, "y": 2})])
     with pytest.raises(NotFoundError, match=r"no stream 'imu'.*streams: telemetry"):
         await history.latest(TWIN, "imu", None)
@@ -88,7 +90,7 @@ async def test_unknown_stream_or_signal_names_what_exists(history: SqliteHistory
         await history.latest(TWIN + 1, STREAM, None)
 
 
-async def test_rows_join_signals_of_one_batch_and_keep_types(history: SqliteHistory) -> None:
+async def test_rows_join_signals_of_one_batch_and_keep_types(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1.5, "n": 3, "on": False}), (T + S, {"x": 2.5, "s": "a"})])
     assert await all_rows(history) == [
         {"time": T, "values": {"n": 3, "on": False, "x": 1.5}},
@@ -97,14 +99,14 @@ async def test_rows_join_signals_of_one_batch_and_keep_types(history: SqliteHist
     assert await all_rows(history, ["x"], start=T + 1) == [{"time": T + S, "values": {"x": 2.5}}]
 
 
-async def test_range_bounds_are_inclusive_and_cut_blocks(history: SqliteHistory) -> None:
+async def test_range_bounds_are_inclusive_and_cut_blocks(history: HistoryStore) -> None:
     await write_column(history, "x", [T + i * S for i in range(10)], list(range(10)), block=4)
     rows = await all_rows(history, start=T + 3 * S, end=T + 6 * S)
     assert [r["values"]["x"] for r in rows] == [3, 4, 5, 6]
     assert await all_rows(history, start=T + 20 * S) == []
 
 
-async def test_overlapping_blocks_merge_in_time_order(history: SqliteHistory) -> None:
+async def test_overlapping_blocks_merge_in_time_order(history: HistoryStore) -> None:
     await write_column(history, "x", [T + i * S for i in range(0, 20, 2)], list(range(0, 20, 2)), 5)
     await write_column(history, "x", [T + i * S for i in range(1, 20, 2)], list(range(1, 20, 2)), 3)
     rows = await all_rows(history)
@@ -120,7 +122,7 @@ async def test_overlapping_blocks_merge_in_time_order(history: SqliteHistory) ->
     ]
 
 
-async def test_equal_times_keep_arrival_order_and_mixed_kinds(history: SqliteHistory) -> None:
+async def test_equal_times_keep_arrival_order_and_mixed_kinds(history: HistoryStore) -> None:
     await write(history, [(T, {"x": 1}), (T + S, {"x": 2})])
     await write(history, [(T + S, {"x": 2.5}), (T + 2 * S, {"x": "three"})])
     rows = await all_rows(history)
@@ -131,7 +133,7 @@ async def test_equal_times_keep_arrival_order_and_mixed_kinds(history: SqliteHis
 
 
 async def test_paging_returns_every_row_once_even_across_equal_times(
-    history: SqliteHistory,
+    history: HistoryStore,
 ) -> None:
     rng = random.Random(3)
     expected = []
@@ -160,7 +162,7 @@ async def test_paging_returns_every_row_once_even_across_equal_times(
     assert sum(len(r["values"]) for r in whole) == count
 
 
-async def test_a_page_stops_at_the_limit_and_names_the_next_row(history: SqliteHistory) -> None:
+async def test_a_page_stops_at_the_limit_and_names_the_next_row(history: HistoryStore) -> None:
     await write_column(history, "x", [T + i for i in range(10)], list(range(10)), block=3)
     page = await history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 4)
     assert [r["values"]["x"] for r in page.rows] == [0, 1, 2, 3]
@@ -170,19 +172,19 @@ async def test_a_page_stops_at_the_limit_and_names_the_next_row(history: SqliteH
     assert rest.next_key is None
 
 
-async def test_extent_is_first_and_last_sample(history: SqliteHistory) -> None:
+async def test_extent_is_first_and_last_sample(history: HistoryStore) -> None:
     await write_column(history, "x", [T + i * S for i in range(10)], list(range(10)), block=4)
     await write(history, [(T - 5 * S, {"y": 1}), (T + 50 * S, {"y": 2})])
     assert await history.extent(TWIN, STREAM, ["x"]) == (T, T + 9 * S)
     assert await history.extent(TWIN, STREAM, None) == (T - 5 * S, T + 50 * S)
 
 
-async def samples_and_rows(history: SqliteHistory) -> tuple[int, int]:
+async def samples_and_rows(history: HistoryStore) -> tuple[int, int]:
     [stream] = await history.streams(TWIN)
     return stream["samples"], len(await all_rows(history))
 
 
-async def test_stream_samples_are_the_rows_of_samples(history: SqliteHistory) -> None:
+async def test_stream_samples_are_the_rows_of_samples(history: HistoryStore) -> None:
     # 6 472 samples of 11 signals are 6 472 samples (and 71 192 values), not 71 192
     await write(history, [(T + i, {f"s{k}": i * k for k in range(11)}) for i in range(6_472)])
     [stream] = await history.streams(TWIN)
@@ -200,21 +202,21 @@ async def test_stream_samples_are_the_rows_of_samples(history: SqliteHistory) ->
 
 
 async def test_stream_samples_of_blocks_written_before_their_times_hash(
-    history: SqliteHistory,
+    sqlite_history: SqliteHistory,
 ) -> None:
-    await write(history, [(T + i, {"x": i, "y": -i}) for i in range(50)])
-    await write(history, [(T + 100 + i, {"x": i}) for i in range(20)])
-    conn = sqlite3.connect(history.path)
+    await write(sqlite_history, [(T + i, {"x": i, "y": -i}) for i in range(50)])
+    await write(sqlite_history, [(T + 100 + i, {"x": i}) for i in range(20)])
+    conn = sqlite3.connect(sqlite_history.path)
     try:
         with conn:
             conn.execute("UPDATE blocks SET times_hash = NULL WHERE rowid % 2 = 0")
     finally:
         conn.close()
-    assert await samples_and_rows(history) == (70, 70)
+    assert await samples_and_rows(sqlite_history) == (70, 70)
 
 
 async def test_an_unknown_signal_of_a_wide_stream_names_a_few_of_its_signals(
-    history: SqliteHistory,
+    history: HistoryStore,
 ) -> None:
     await write(history, [(T, {f"s{i:03d}": i for i in range(300)})])
     with pytest.raises(NotFoundError) as refused:

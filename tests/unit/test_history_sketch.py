@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from tests.unit._history import STREAM, TWIN, T, write, write_column
-from tests.unit._history import history as history  # fixture
+from tests.unit._history import sqlite_history as sqlite_history  # fixture
 from tests.unit.test_history_downsample import expected_minmax, pairs, reference_lttb
 from twinlink.domain.samples import Value
 from twinlink.store.sqlite.db import migrate
@@ -105,17 +105,19 @@ def test_a_sketch_holds_each_chunks_extremes_the_first_of_equals() -> None:
     assert two is not None and sketch.columns(two)[0].shape == (2, 6)
 
 
-async def test_writer_and_compaction_store_what_the_samples_give(history: SqliteHistory) -> None:
+async def test_writer_and_compaction_store_what_the_samples_give(
+    sqlite_history: SqliteHistory,
+) -> None:
     times, values = jittered(3000, 1)
-    await write_column(history, "big", times, values, 1000)
-    await write_column(history, "small", times, values, 10)
+    await write_column(sqlite_history, "big", times, values, 1000)
+    await write_column(sqlite_history, "small", times, values, 10)
     ints: list[tuple[int, dict[str, Value]]] = [(T, {"ints": i}) for i in range(5)]
-    await write(history, [*ints, (T + 9, {"on": True})])
+    await write(sqlite_history, [*ints, (T + 9, {"on": True})])
     signals = ["big", "small", "ints", "on"]
-    assert_stored(history, signals)
-    await history.compact()
-    assert [r[0] for r in block_rows(history, "small")] == [3000]  # merged by compaction
-    assert_stored(history, signals)
+    assert_stored(sqlite_history, signals)
+    await sqlite_history.compact()
+    assert [r[0] for r in block_rows(sqlite_history, "small")] == [3000]  # merged by compaction
+    assert_stored(sqlite_history, signals)
 
 
 def assert_stored(history: SqliteHistory, signals: list[str]) -> None:
@@ -128,20 +130,22 @@ def assert_stored(history: SqliteHistory, signals: list[str]) -> None:
 
 
 @pytest.mark.parametrize("block", [129, 1000, 6000])
-async def test_minmax_and_lttb_from_sketches_are_exact(history: SqliteHistory, block: int) -> None:
+async def test_minmax_and_lttb_from_sketches_are_exact(
+    sqlite_history: SqliteHistory, block: int
+) -> None:
     times, values = jittered(20_000, block)
-    await write_column(history, "x", times, values, block)
-    await check_all(history, "x", times, values)
+    await write_column(sqlite_history, "x", times, values, block)
+    await check_all(sqlite_history, "x", times, values)
 
 
 async def test_only_chunks_that_may_hold_an_extreme_are_read(
-    history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
+    sqlite_history: SqliteHistory, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     times, values = jittered(60_000, 2)
-    await write_column(history, "x", times, values, 10_000)
+    await write_column(sqlite_history, "x", times, values, 10_000)
     read = count_reads(monkeypatch)
     start, end = times[0], times[-1]
-    got = await history.downsample(TWIN, STREAM, ["x"], start, end, 40, "minmax")
+    got = await sqlite_history.downsample(TWIN, STREAM, ["x"], start, end, 40, "minmax")
     assert pairs(got["x"]) == expected(times, values, start, end, 40, "minmax")
     assert 0 < read[0] < 60_000 // 20  # 20 buckets of ~23 chunks: a few cut chunks
 
@@ -161,44 +165,44 @@ def count_reads(monkeypatch: pytest.MonkeyPatch) -> list[int]:
 
 @pytest.mark.parametrize("block", [3, 50, 1000, 4000])
 async def test_blocks_written_before_sketches_give_the_same(
-    history: SqliteHistory, block: int
+    sqlite_history: SqliteHistory, block: int
 ) -> None:
     times, values = jittered(12_000, block)
-    await write_column(history, "x", times, values, block)
-    forget_sketches(history, "rowid % 3 != 0")  # old and new blocks side by side
-    await check_all(history, "x", times, values)
+    await write_column(sqlite_history, "x", times, values, block)
+    forget_sketches(sqlite_history, "rowid % 3 != 0")  # old and new blocks side by side
+    await check_all(sqlite_history, "x", times, values)
 
 
-async def test_equal_extremes_keep_the_earliest(history: SqliteHistory) -> None:
+async def test_equal_extremes_keep_the_earliest(sqlite_history: SqliteHistory) -> None:
     times, _ = jittered(20_000, 4)
     values = [float(v) for v in np.random.default_rng(4).integers(0, 3, len(times))]
-    await write_column(history, "x", times[:8000], values[:8000], 2)  # summaries
-    await write_column(history, "x", times[8000:], values[8000:], 3000)  # sketches
-    await check_all(history, "x", times, values)
+    await write_column(sqlite_history, "x", times[:8000], values[:8000], 2)  # summaries
+    await write_column(sqlite_history, "x", times[8000:], values[8000:], 3000)  # sketches
+    await check_all(sqlite_history, "x", times, values)
 
 
 async def test_compacted_history_with_a_tail_of_small_and_late_blocks(
-    history: SqliteHistory,
+    sqlite_history: SqliteHistory,
 ) -> None:
     times, values = jittered(30_000, 5)
-    await write_column(history, "x", times[:24_000], values[:24_000], 100)
-    await history.compact()
-    await write_column(history, "x", times[24_000:], values[24_000:], 20)
+    await write_column(sqlite_history, "x", times[:24_000], values[:24_000], 100)
+    await sqlite_history.compact()
+    await write_column(sqlite_history, "x", times[24_000:], values[24_000:], 20)
     late_t = [t + 1 for t in times[5000:9000:3]]  # late, overlapping a merged block
     late_v = [v + 0.5 for v in values[5000:9000:3]]
-    await write_column(history, "x", late_t, late_v, len(late_t))
+    await write_column(sqlite_history, "x", late_t, late_v, len(late_t))
     every = sorted(zip(times + late_t, values + late_v, strict=True))
-    await check_all(history, "x", [t for t, _ in every], [v for _, v in every])
+    await check_all(sqlite_history, "x", [t for t, _ in every], [v for _, v in every])
 
 
-async def test_numbers_of_blocks_mixing_text_are_kept(history: SqliteHistory) -> None:
+async def test_numbers_of_blocks_mixing_text_are_kept(sqlite_history: SqliteHistory) -> None:
     times, values = jittered(9000, 6)
-    await write_column(history, "x", times[:6000], values[:6000], 3000)
+    await write_column(sqlite_history, "x", times[:6000], values[:6000], 3000)
     mixed: list[Any] = ["off" if i % 10 == 0 else v for i, v in enumerate(values[6000:])]
     mixed[1234] = 99.0  # a peak inside a JSON block
-    await write_column(history, "x", times[6000:], mixed, 3000)
+    await write_column(sqlite_history, "x", times[6000:], mixed, 3000)
     numeric = [(t, v) for t, v in zip(times, values[:6000] + mixed, strict=True) if v != "off"]
-    got = await history.downsample(TWIN, STREAM, ["x"], times[0], times[-1], 40, "minmax")
+    got = await sqlite_history.downsample(TWIN, STREAM, ["x"], times[0], times[-1], 40, "minmax")
     assert (times[7234], 99.0) in pairs(got["x"])
     want = expected(
         [t for t, _ in numeric], [v for _, v in numeric], times[0], times[-1], 40, "minmax"
@@ -206,7 +210,7 @@ async def test_numbers_of_blocks_mixing_text_are_kept(history: SqliteHistory) ->
     assert pairs(got["x"]) == want
 
 
-async def test_a_chunk_across_three_buckets_is_read(history: SqliteHistory) -> None:
+async def test_a_chunk_across_three_buckets_is_read(sqlite_history: SqliteHistory) -> None:
     """A chunk whose samples spread over several buckets (a slow stretch) holds the only
     samples of the buckets in its middle; its own extremes alone do not settle those."""
     rng = np.random.default_rng(7)
@@ -219,9 +223,9 @@ async def test_a_chunk_across_three_buckets_is_read(history: SqliteHistory) -> N
     slow = rng.uniform(-0.9, 0.9, c).round(3)
     slow[0], slow[64] = 1.0, -1.0  # its high in its first bucket, its low in a middle one
     values[dense : dense + c] = slow.tolist()
-    await write_column(history, "x", times, values, len(times))
+    await write_column(sqlite_history, "x", times, values, len(times))
     start, end = times[0], times[-1]
-    got = await history.downsample(TWIN, STREAM, ["x"], start, end, 100, "minmax")
+    got = await sqlite_history.downsample(TWIN, STREAM, ["x"], start, end, 100, "minmax")
     assert pairs(got["x"]) == expected(times, values, start, end, 100, "minmax")
 
 

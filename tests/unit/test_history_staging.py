@@ -18,11 +18,11 @@ import pytest
 
 from tests.unit._faulty import FaultyConnection, wrap_writer_connections
 from tests.unit._history import STREAM, TWIN, S, T, write
-from tests.unit._history import history as history  # fixture
+from tests.unit._history import sqlite_history as sqlite_history  # fixture
 from twinlink.domain.errors import StorageError
+from twinlink.domain.history import MAX_TIME, MIN_TIME
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.sqlite.history import SqliteHistory, staging
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 DEVICE = 3
 
@@ -102,52 +102,56 @@ async def test_every_read_sees_staged_batches_as_blocks(
     assert answers[0] == answers[1]
 
 
-async def test_staged_batches_are_one_row_each_until_moved(history: SqliteHistory) -> None:
+async def test_staged_batches_are_one_row_each_until_moved(sqlite_history: SqliteHistory) -> None:
     for k in range(5):
-        await write(history, [(T + k * S, {"x": k, "y": float(k)})])
-    assert count(history.path, "staged") == 5
-    assert count(history.path, "blocks") == 0
-    assert history.writer.staged(TWIN) == 5
-    await history.settle(TWIN)
-    assert count(history.path, "staged") == 0
-    assert count(history.path, "blocks") == 2  # a block per signal for all five batches
-    latest = await history.latest(TWIN, STREAM, None)
+        await write(sqlite_history, [(T + k * S, {"x": k, "y": float(k)})])
+    assert count(sqlite_history.path, "staged") == 5
+    assert count(sqlite_history.path, "blocks") == 0
+    assert sqlite_history.writer.staged(TWIN) == 5
+    await sqlite_history.settle(TWIN)
+    assert count(sqlite_history.path, "staged") == 0
+    assert count(sqlite_history.path, "blocks") == 2  # a block per signal for all five batches
+    latest = await sqlite_history.latest(TWIN, STREAM, None)
     assert latest == {"x": {"time": T + 4 * S, "value": 4}, "y": {"time": T + 4 * S, "value": 4.0}}
 
 
-async def test_equal_times_keep_arrival_order(history: SqliteHistory) -> None:
+async def test_equal_times_keep_arrival_order(sqlite_history: SqliteHistory) -> None:
     for value in (3, 1, 2):
-        await write(history, [(T, {"x": value})])
-    page = await history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
+        await write(sqlite_history, [(T, {"x": value})])
+    page = await sqlite_history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
     assert [r["values"]["x"] for r in page.rows] == [3, 1, 2]
 
 
-async def test_a_large_batch_after_staged_ones_keeps_their_order(history: SqliteHistory) -> None:
-    await write(history, [(T, {"x": "first"})])
-    await write(history, [(T + i, {"x": f"big{i}"}) for i in range(20)])  # a block at once
-    assert count(history.path, "staged") == 0  # the twin's staged batch went first
-    page = await history.samples(TWIN, STREAM, None, T, T, 10)
+async def test_a_large_batch_after_staged_ones_keeps_their_order(
+    sqlite_history: SqliteHistory,
+) -> None:
+    await write(sqlite_history, [(T, {"x": "first"})])
+    await write(sqlite_history, [(T + i, {"x": f"big{i}"}) for i in range(20)])  # a block at once
+    assert count(sqlite_history.path, "staged") == 0  # the twin's staged batch went first
+    page = await sqlite_history.samples(TWIN, STREAM, None, T, T, 10)
     assert [r["values"]["x"] for r in page.rows] == ["first", "big0"]
 
 
-async def test_batches_far_apart_in_time_stay_apart_for_retention(history: SqliteHistory) -> None:
+async def test_batches_far_apart_in_time_stay_apart_for_retention(
+    sqlite_history: SqliteHistory,
+) -> None:
     day = 86_400 * S
-    await write(history, [(T, {"x": 1})])
-    await write(history, [(T + 10 * day, {"x": 2})])  # the same kind, ten days later
-    await history.settle(TWIN)
-    assert count(history.path, "blocks") == 2
-    await history.delete_before(T + day)
-    page = await history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
+    await write(sqlite_history, [(T, {"x": 1})])
+    await write(sqlite_history, [(T + 10 * day, {"x": 2})])  # the same kind, ten days later
+    await sqlite_history.settle(TWIN)
+    assert count(sqlite_history.path, "blocks") == 2
+    await sqlite_history.delete_before(T + day)
+    page = await sqlite_history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
     assert page.rows == [{"time": T + 10 * day, "values": {"x": 2}}]
 
 
-async def test_a_resent_staged_batch_is_stored_once(history: SqliteHistory) -> None:
+async def test_a_resent_staged_batch_is_stored_once(sqlite_history: SqliteHistory) -> None:
     batch = SampleBatch(TWIN, "twin", STREAM, [T], [{"x": 1.5}], T, seq=9)
-    assert await history.append(batch, DEVICE) is True
-    assert await history.append(batch, DEVICE) is False
-    await history.settle(None)
-    assert await history.append(batch, DEVICE) is False  # moved into blocks: still known
-    page = await history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
+    assert await sqlite_history.append(batch, DEVICE) is True
+    assert await sqlite_history.append(batch, DEVICE) is False
+    await sqlite_history.settle(None)
+    assert await sqlite_history.append(batch, DEVICE) is False  # moved into blocks: still known
+    page = await sqlite_history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
     assert page.rows == [{"time": T, "values": {"x": 1.5}}]
 
 
@@ -228,15 +232,15 @@ async def test_a_stop_moves_them_and_a_crash_leaves_them_for_the_next_start(
         await h.close()
 
 
-async def test_deleting_a_twin_deletes_its_staged_batches(history: SqliteHistory) -> None:
-    await write(history, [(T, {"x": 1})])
-    await write(history, [(T, {"x": 2})], twin_id=TWIN + 1)
-    await history.delete_twin(TWIN)
-    assert history.writer.staged(TWIN) == 0
-    await write(history, [(T + S, {"x": 3})])  # a new series for the twin made again
-    page = await history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
+async def test_deleting_a_twin_deletes_its_staged_batches(sqlite_history: SqliteHistory) -> None:
+    await write(sqlite_history, [(T, {"x": 1})])
+    await write(sqlite_history, [(T, {"x": 2})], twin_id=TWIN + 1)
+    await sqlite_history.delete_twin(TWIN)
+    assert sqlite_history.writer.staged(TWIN) == 0
+    await write(sqlite_history, [(T + S, {"x": 3})])  # a new series for the twin made again
+    page = await sqlite_history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10)
     assert page.rows == [{"time": T + S, "values": {"x": 3}}]
-    other = await history.samples(TWIN + 1, STREAM, None, MIN_TIME, MAX_TIME, 10)
+    other = await sqlite_history.samples(TWIN + 1, STREAM, None, MIN_TIME, MAX_TIME, 10)
     assert other.rows == [{"time": T, "values": {"x": 2}}]
 
 

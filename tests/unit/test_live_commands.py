@@ -13,7 +13,7 @@ from tests.unit.test_live_session import USER, FakeAuth, FakeRegistry
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError
 from twinlink.bus import MemoryBus
-from twinlink.commands.model import CommandRecord
+from twinlink.domain.commands import CommandRecord
 from twinlink.domain.errors import ForbiddenError, InvalidInputError
 from twinlink.domain.jsontext import int64_problem
 from twinlink.live.commands import CommandOps

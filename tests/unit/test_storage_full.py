@@ -18,8 +18,8 @@ from typing import Any
 import pytest
 
 from tests.unit._faulty import FaultyConnection, disk_error, wrap_writer_connections
-from twinlink.commands.db import WriteBehind
-from twinlink.commands.model import CommandRecord
+from twinlink.commands.write_behind import WriteBehind
+from twinlink.domain.commands import CommandRecord
 from twinlink.domain.errors import StorageError, StorageFullError, TooManySignalsError
 from twinlink.domain.samples import SampleBatch
 from twinlink.ingest.service import IngestService
@@ -301,12 +301,12 @@ async def test_command_changes_a_full_disk_refused_are_written_with_the_next_wri
     written: list[list[str]] = []
     fail = [True]
 
-    async def write(fn: Any) -> None:
+    async def save(records: list[CommandRecord]) -> None:
         if fail[0]:
             raise StorageFullError("full")
-        written.append([row[0] for row in fn.args[0]])  # partial(save_commands, rows)
+        written.append([r.id for r in records])
 
-    log = WriteBehind(write)
+    log = WriteBehind(save)
     log.save(command("a"))
     with pytest.raises(StorageFullError):
         await log.sync()

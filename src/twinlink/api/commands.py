@@ -13,8 +13,8 @@ from twinlink.api.devices import ThisDevice
 from twinlink.api.responses import JSONAnswer
 from twinlink.api.routing import ExactJsonRoute
 from twinlink.commands import CommandService
-from twinlink.commands.model import STATES
 from twinlink.commands.service import MAX_LIST, MAX_TIMEOUT_S
+from twinlink.domain.commands import STATES
 
 router = APIRouter(prefix="/api/v1", tags=["commands"], route_class=ExactJsonRoute)
 MAX_POLL_S = 60.0

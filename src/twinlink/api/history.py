@@ -23,6 +23,16 @@ from starlette.types import Send
 
 from twinlink.api.deps import Caller
 from twinlink.api.responses import JSONAnswer
+from twinlink.domain.history import (
+    FORMATS,
+    FUNCTIONS,
+    MAX_TIME,
+    METHODS,
+    MIN_TIME,
+    TIME_FORMATS,
+    QueryTooLargeError,
+    ReadBudgetError,
+)
 from twinlink.history.params import (
     DURATION_HELP,
     TIME_HELP,
@@ -35,11 +45,6 @@ from twinlink.history.params import (
     parse_time,
 )
 from twinlink.history.service import HistoryService, Selection
-from twinlink.store.sqlite.history.aggregate import FUNCTIONS
-from twinlink.store.sqlite.history.budget import QueryTooLargeError, ReadBudgetError
-from twinlink.store.sqlite.history.downsample import METHODS
-from twinlink.store.sqlite.history.export import FORMATS, TIME_FORMATS
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
 
 router = APIRouter(prefix="/api/v1/twins/{slug}/streams", tags=["history"])
 log = logging.getLogger("twinlink.history")

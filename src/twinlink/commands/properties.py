@@ -2,7 +2,8 @@
 
 The device learns the delta (desired values that differ from its reported ones) in its
 `welcome`, in a `desired` message after every desired change, and in each `reported_ack`.
-Every change is durable (one group commit of history.db) before it is acknowledged.
+Every change is durable (in the `PropertyStore`; with SQLite, one group commit of history.db)
+before it is acknowledged.
 """
 
 from __future__ import annotations
@@ -10,34 +11,26 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
-from functools import partial
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
-from twinlink.commands.db import ReadConnection
 from twinlink.commands.interfaces import InterfaceRules
 from twinlink.commands.rules import check_desired, check_reported
-from twinlink.commands.state import (
-    DeviceProperties,
-    delete_properties_of,
-    load_properties,
-    save_properties,
-)
 from twinlink.domain.errors import ForbiddenError, NotFoundError, StorageError
+from twinlink.domain.properties import DeviceProperties
 from twinlink.domain.records import Device
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
 from twinlink.registry.service import RegistryService
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.commands import PropertyStore
 
 log = logging.getLogger("twinlink.commands")
 
 
 class PropertyService:
-    def __init__(self, registry: RegistryService, history: SqliteHistory, hub: DeviceHub) -> None:
+    def __init__(self, registry: RegistryService, store: PropertyStore, hub: DeviceHub) -> None:
         self.registry = registry
-        self.history = history
+        self.store = store
         self.hub = hub
-        self.reader = ReadConnection(history.path)
         self.rules = InterfaceRules(registry)
         self._cache: dict[int, DeviceProperties] = {}
         self._load_lock = asyncio.Lock()
@@ -46,13 +39,10 @@ class PropertyService:
         hub.welcome_extras.append(self._welcome)
         registry.deleted_listeners.append(self._twins_deleted)
 
-    async def open(self) -> None:
-        await self.reader.open()
-
     async def close(self) -> None:
+        """Wait for the acks and deletions under way (before the store closes)."""
         if self._tasks:
             await asyncio.gather(*self._tasks, return_exceptions=True)
-        await self.reader.close()
 
     # -- people ----------------------------------------------------------------------------
 
@@ -151,15 +141,15 @@ class PropertyService:
         async with self._load_lock:
             props = self._cache.get(device.id)
             if props is None or props.device_created_ns != device.created_ns:
-                load = partial(load_properties, device.id, device.twin_id, device.created_ns)
-                props = await self.reader.read(load)
+                props = await self.store.load_properties(
+                    device.id, device.twin_id, device.created_ns
+                )
                 self._cache[device.id] = props
         return props
 
     async def _save(self, props: DeviceProperties, names: list[str]) -> None:
-        key = (props.device_id, props.twin_id, props.device_created_ns, props.version)
         try:
-            await self.history.write(partial(save_properties, key, props.rows(names)))
+            await self.store.save_properties(props, names)
         except BaseException:
             self._cache.pop(props.device_id, None)  # memory ran ahead of the disk: reload
             raise
@@ -173,4 +163,4 @@ class PropertyService:
         task.add_done_callback(self._tasks.discard)
 
     async def _forget(self, twin_ids: list[int]) -> None:
-        await self.history.write(partial(delete_properties_of, twin_ids))
+        await self.store.delete_properties_of(twin_ids)

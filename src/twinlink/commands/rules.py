@@ -196,15 +196,6 @@ def check_reported(rules: Rules, properties: Any) -> dict[str, Any]:
     return dict(properties)
 
 
-def same_value(a: Any, b: Any) -> bool:
-    """Equal as JSON values: 1 and 1.0 are the same number, but True is not 1."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    if isinstance(a, int | float) and isinstance(b, int | float):
-        return a == b
-    return type(a) is type(b) and bool(a == b)
-
-
 def _show(value: Any) -> str:
     text = orjson.dumps(value).decode() if _jsonable(value) else repr(value)
     return text if len(text) <= 40 else text[:37] + "..."

@@ -18,27 +18,19 @@ import asyncio
 import time
 from collections import defaultdict
 from dataclasses import dataclass
-from functools import partial
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
-from twinlink.commands.db import (
-    ReadConnection,
-    WriteBehind,
-    delete_commands_of,
-    select_command,
-    select_commands,
-    select_open_commands,
-)
 from twinlink.commands.interfaces import InterfaceRules
-from twinlink.commands.model import OFFLINE, STATES, CommandRecord, new_command_id
 from twinlink.commands.rules import check_command
 from twinlink.commands.targets import DeviceTargets
+from twinlink.commands.write_behind import WriteBehind
+from twinlink.domain.commands import OFFLINE, STATES, CommandRecord, new_command_id
 from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.domain.records import Device, TwinRecord
 from twinlink.ingest.sessions import DeviceHub, DeviceSession
 from twinlink.registry.service import RegistryService
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.commands import CommandStore
 
 MAX_TIMEOUT_S = 7 * 24 * 3600.0
 MAX_ERROR_CHARS = 4096
@@ -56,16 +48,15 @@ class CommandService:
     def __init__(
         self,
         registry: RegistryService,
-        history: SqliteHistory,
+        store: CommandStore,
         hub: DeviceHub,
         default_timeout_s: float,
     ) -> None:
         self.registry = registry
         self.hub = hub
-        self.history = history
+        self.store = store
         self.default_timeout_s = default_timeout_s
-        self.reader = ReadConnection(history.path)
-        self.log = WriteBehind(history.write)
+        self.log = WriteBehind(store.save_commands)
         self.rules = InterfaceRules(registry)
         self.targets = DeviceTargets(registry, self._online)
         self._live: dict[str, _Live] = {}
@@ -78,10 +69,9 @@ class CommandService:
         registry.deleted_listeners.append(self._twins_deleted)
 
     async def open(self) -> None:
-        """Open the log and take up the commands a previous run left open."""
-        await self.reader.open()
+        """Take up the commands a previous run left open (the store is open)."""
         now = time.time_ns()
-        for record in await self.reader.read(select_open_commands):
+        for record in await self.store.open_commands():
             if record.expires_ns <= now:  # expired while the server was down
                 record.expire(record.expires_ns)
                 self.log.save(record)
@@ -95,7 +85,6 @@ class CommandService:
         if self._tasks:
             await asyncio.gather(*self._tasks, return_exceptions=True)
         await self.log.close()  # best effort: a full disk does not fail the shutdown
-        await self.reader.close()
 
     # -- people ----------------------------------------------------------------------------
 
@@ -155,8 +144,7 @@ class CommandService:
         if state is not None and state not in STATES:
             raise InvalidInputError(f"`state` must be one of {', '.join(STATES)}")
         await self.log.sync()
-        query = partial(select_commands, twin.id, state, name, device, min(limit, MAX_LIST))
-        return await self.reader.read(query)
+        return await self.store.list_commands(twin.id, state, name, device, min(limit, MAX_LIST))
 
     async def get(self, principal: Principal, slug: str, command_id: str) -> CommandRecord:
         twin = await self._twin_for_reading(principal, slug)
@@ -182,7 +170,7 @@ class CommandService:
         if live is not None:
             return live.record
         await self.log.sync()  # a command that just finished may not be committed yet
-        return await self.reader.read(partial(select_command, command_id))
+        return await self.store.get_command(command_id)
 
     # -- devices ---------------------------------------------------------------------------
 
@@ -325,7 +313,7 @@ class CommandService:
 
     async def _forget(self, twin_ids: list[int]) -> None:
         await self.log.sync()  # so no late upsert brings a deleted command back
-        await self.history.write(partial(delete_commands_of, twin_ids))
+        await self.store.delete_commands_of(twin_ids)
 
 
 def _command_id(message: dict[str, Any]) -> str:

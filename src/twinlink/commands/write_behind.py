@@ -1,140 +1,17 @@
-"""Commands and properties in history.db: the SQL, a read connection of our own, and the
-write-behind that turns many state changes into one statement per group commit.
-
-Writes go through the history writer (`history.write(fn)`), so they share its group commits
-with telemetry. Reads use a separate WAL connection on a thread of its own: they never wait
-for a commit and never occupy the writer's thread.
-"""
+"""The command log, written behind the caller: many state changes of a command become one
+row per group commit (`CommandStore.save_commands`)."""
 
 from __future__ import annotations
 
 import asyncio
 import logging
-import sqlite3
 from collections.abc import Awaitable, Callable, Iterable
-from concurrent.futures import ThreadPoolExecutor
-from functools import partial
-from pathlib import Path
-from typing import Any, TypeVar
 
-import orjson
-
-from twinlink.commands.model import CommandRecord
+from twinlink.domain.commands import CommandRecord
 from twinlink.domain.errors import StorageError
 
-T = TypeVar("T")
 log = logging.getLogger("twinlink.commands")
-Write = Callable[[Callable[[sqlite3.Connection], Any]], Awaitable[Any]]
-
-_COLUMNS = (
-    "id, twin_id, device_id, device, name, args, state, queued, sent_by, created_ns, "
-    "expires_ns, delivered_ns, finished_ns, result, error, late_status"
-)
-_UPSERT = (
-    f"INSERT INTO commands ({_COLUMNS}) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) "
-    "ON CONFLICT (id) DO UPDATE SET state = excluded.state, "
-    "delivered_ns = excluded.delivered_ns, finished_ns = excluded.finished_ns, "
-    "result = excluded.result, error = excluded.error, late_status = excluded.late_status"
-)
-
-
-class ReadConnection:
-    """A read-only connection to history.db, used from one thread of its own."""
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="twinlink-cmd-read")
-        self._conn: sqlite3.Connection | None = None
-
-    async def open(self) -> None:
-        def _open() -> None:
-            conn = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None)
-            conn.execute("PRAGMA query_only=ON")
-            conn.execute("PRAGMA busy_timeout=10000")
-            self._conn = conn
-
-        await asyncio.get_running_loop().run_in_executor(self._executor, _open)
-
-    async def close(self) -> None:
-        def _close() -> None:
-            if self._conn is not None:
-                self._conn.close()
-                self._conn = None
-
-        await asyncio.get_running_loop().run_in_executor(self._executor, _close)
-        self._executor.shutdown(wait=True)
-
-    async def read(self, fn: Callable[[sqlite3.Connection], T]) -> T:
-        def _run() -> T:
-            if self._conn is None:
-                raise RuntimeError("the command store is not open")
-            return fn(self._conn)
-
-        return await asyncio.get_running_loop().run_in_executor(self._executor, _run)
-
-
-# -- commands --------------------------------------------------------------------------------
-
-
-def command_row(r: CommandRecord) -> tuple[Any, ...]:
-    return (
-        r.id, r.twin_id, r.device_id, r.device, r.name, _json(r.args), r.state, int(r.queued),
-        r.sent_by, r.created_ns, r.expires_ns, r.delivered_ns, r.finished_ns,
-        None if r.result is None else _json(r.result), r.error, r.late_status,
-    )  # fmt: skip
-
-
-def record_from_row(row: tuple[Any, ...]) -> CommandRecord:
-    (id_, twin_id, device_id, device, name, args, state, queued, sent_by, created_ns, expires_ns,
-     delivered_ns, finished_ns, result, error, late_status) = row  # fmt: skip
-    return CommandRecord(
-        id=id_, twin_id=twin_id, device_id=device_id, device=device, name=name,
-        args=orjson.loads(args), state=state, queued=bool(queued), sent_by=sent_by,
-        created_ns=created_ns, expires_ns=expires_ns, delivered_ns=delivered_ns,
-        finished_ns=finished_ns, result=None if result is None else orjson.loads(result),
-        error=error, late_status=late_status,
-    )  # fmt: skip
-
-
-def save_commands(rows: list[tuple[Any, ...]], conn: sqlite3.Connection) -> None:
-    conn.executemany(_UPSERT, rows)
-
-
-def select_command(command_id: str, conn: sqlite3.Connection) -> CommandRecord | None:
-    row = conn.execute(f"SELECT {_COLUMNS} FROM commands WHERE id = ?", (command_id,)).fetchone()
-    return None if row is None else record_from_row(row)
-
-
-def select_commands(
-    twin_id: int,
-    state: str | None,
-    name: str | None,
-    device: str | None,
-    limit: int,
-    conn: sqlite3.Connection,
-) -> list[CommandRecord]:
-    """The twin's commands, newest first."""
-    sql = f"SELECT {_COLUMNS} FROM commands WHERE twin_id = ?"
-    params: list[Any] = [twin_id]
-    for column, value in (("state", state), ("name", name), ("device", device)):
-        if value is not None:
-            sql += f" AND {column} = ?"
-            params.append(value)
-    sql += " ORDER BY created_ns DESC, id LIMIT ?"
-    params.append(limit)
-    return [record_from_row(r) for r in conn.execute(sql, params)]
-
-
-def select_open_commands(conn: sqlite3.Connection) -> list[CommandRecord]:
-    rows = conn.execute(
-        f"SELECT {_COLUMNS} FROM commands WHERE state IN ('pending', 'delivered') "
-        "ORDER BY created_ns"
-    )
-    return [record_from_row(r) for r in rows]
-
-
-def delete_commands_of(twin_ids: list[int], conn: sqlite3.Connection) -> None:
-    conn.executemany("DELETE FROM commands WHERE twin_id = ?", [(i,) for i in twin_ids])
+Save = Callable[[list[CommandRecord]], Awaitable[None]]
 
 
 class WriteBehind:
@@ -147,8 +24,8 @@ class WriteBehind:
     of the same command came meanwhile) and fails the `sync` calls waiting for it; it is
     tried again with the next `save` or `sync`, not in a loop against a disk that is full."""
 
-    def __init__(self, write: Write) -> None:
-        self._write = write
+    def __init__(self, save: Save) -> None:
+        self._write = save
         self._dirty: dict[str, CommandRecord] = {}
         self._waiters: list[asyncio.Future[None]] = []
         self._task: asyncio.Task[None] | None = None
@@ -192,9 +69,7 @@ class WriteBehind:
                     _settle(waiters, None)
                     continue
                 try:
-                    await self._write(
-                        partial(save_commands, [command_row(r) for r in taken.values()])
-                    )
+                    await self._write(list(taken.values()))
                 except Exception as err:
                     if not isinstance(err, StorageError):  # the store logged that one
                         log.exception("writing the command log failed",
@@ -217,7 +92,3 @@ def _settle(waiters: Iterable[asyncio.Future[None]], error: BaseException | None
             waiter.set_result(None)
         else:
             waiter.set_exception(error)
-
-
-def _json(value: Any) -> str:
-    return orjson.dumps(value).decode()

@@ -1,5 +1,6 @@
 """The times a DT document brings (`createdMachine`, `createdHuman`, ...), read into the one
-form twinlink keeps a time in: a 64-bit count of nanoseconds since 1970 (UTC).
+form twinlink keeps a time in: a 64-bit count of nanoseconds since 1970 (UTC), and that
+count back into the text the API shows (`human_time`).
 
 That count holds the times from 1677-09-21T00:12:43.145224192Z to 2262-04-11T23:47:16.854775807Z.
 A document's time outside that span cannot be kept; it is refused with the span named, never
@@ -66,6 +67,13 @@ def human_ns(value: Any) -> int | None:
             f"{_shown(value)} is outside the times twinlink can hold: {SPAN_HUMAN}"
         )
     return ns
+
+
+def human_time(ns: int) -> str:
+    """The time as the API shows it: ISO 8601 in UTC, to the millisecond
+    (`2026-11-21T10:00:00.123Z`)."""
+    moment = datetime.fromtimestamp(ns / 1e9, tz=UTC)
+    return moment.isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
 def _shown(value: Any) -> str:

@@ -1,15 +1,16 @@
 """Keeping history tidy in the background: retention, the dedupe record, deleted twins.
 
-Every 30 seconds, series that got small blocks have them merged (store/.../compact.py).
+Every 30 seconds, the store compacts what small batches left behind (SQLite: series that got
+small blocks have them merged, store/sqlite/history/compact.py).
 Every 10 minutes (and once at start): samples older than `history_retention_days` are deleted
 when it is more than 0, and the record of stored batches (which makes a resent batch a
 duplicate) forgets batches older than 7 days. When twins are deleted, their history goes too.
 Every deletion runs in chunks through the writer's group commit, so ingest keeps flowing;
 after a round that deleted something the WAL is checkpointed and truncated, so the space the
-deletion needed is handed back at once (docs/config.md, "Disk space").
+deletion needed is handed back at once (`reclaim_space`; docs/config.md, "Disk space").
 
-A full disk makes these fail as every other write does: the store counts and logs that once a
-minute (store/sqlite/faults.py), so the failures are not logged again here.
+A full disk makes these fail as every other write does (StorageError): the store counts and
+logs that once a minute (store/sqlite/faults.py), so the failures are not logged again here.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import time
 from collections.abc import Callable
 
 from twinlink.domain.errors import StorageError
-from twinlink.store.sqlite.history import SqliteHistory
+from twinlink.store.history import HistoryUpkeep
 
 log = logging.getLogger("twinlink.history")
 
@@ -33,7 +34,7 @@ DEDUPE_DAYS = 7
 class HistoryMaintenance:
     def __init__(
         self,
-        history: SqliteHistory,
+        history: HistoryUpkeep,
         retention_days: float,
         every_s: float = EVERY_S,
         compact_every_s: float = COMPACT_EVERY_S,
@@ -81,11 +82,11 @@ class HistoryMaintenance:
             except Exception:
                 log.exception("history compaction failed", extra={"event": "history_compact"})
                 continue
-            if done.blocks_before:
+            if done.before:
                 log.debug(
                     "history compacted",
-                    extra={"event": "history_compact", "before": done.blocks_before,
-                           "after": done.blocks_after},
+                    extra={"event": "history_compact", "before": done.before,
+                           "after": done.after},
                 )  # fmt: skip
 
     async def run_once(self) -> dict[str, int]:
@@ -97,9 +98,7 @@ class HistoryMaintenance:
             done["blocks"] = await self.history.delete_before(cutoff)
         done["batches"] = await self.history.forget_ingested_before(now - DEDUPE_DAYS * DAY_NS)
         if any(done.values()):
-            # Readers in the middle of a long read make it busy; journal_size_limit trims the
-            # WAL once they are done.
-            await self.history.writer.checkpoint()
+            await self.history.reclaim_space()
             log.info("history retention", extra={"event": "history_retention", **done})
         return done
 

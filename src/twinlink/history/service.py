@@ -16,12 +16,11 @@ import orjson
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.domain.errors import ForbiddenError
+from twinlink.domain.history import MAX_TIME, MEDIA_TYPES, MIN_TIME
 from twinlink.domain.records import TwinRecord
 from twinlink.history.params import QueryError, format_cursor, human_ns, iso_ns
 from twinlink.registry.service import RegistryService
-from twinlink.store.sqlite.history import SqliteHistory
-from twinlink.store.sqlite.history.export import MEDIA_TYPES
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME
+from twinlink.store.history import HistoryReadStore
 
 MAX_BUCKETS = 100_000
 _INT64 = 2**63
@@ -63,7 +62,7 @@ class HistoryService:
     def __init__(
         self,
         registry: RegistryService,
-        history: SqliteHistory,
+        history: HistoryReadStore,
         clock: Callable[[], int] = time.time_ns,
     ) -> None:
         self.registry = registry

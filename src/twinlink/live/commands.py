@@ -15,7 +15,7 @@ import logging
 from typing import Any, Protocol
 
 from twinlink.auth.rights import Principal
-from twinlink.commands.model import CommandRecord
+from twinlink.domain.commands import CommandRecord
 from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.live import protocol
 from twinlink.live.outbox import Outbox

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from datetime import UTC, datetime
 from typing import Any
 
 from twinlink.domain.doctime import TimeRangeError, human_ns, machine_ns
+from twinlink.domain.doctime import human_time as human_time  # where the API has it from
 from twinlink.domain.document import DocumentPart
 from twinlink.domain.merge import level_order
 from twinlink.domain.records import Edge, SearchRow
@@ -106,11 +106,6 @@ def _text(value: Any) -> str:
 
 def machine_time(ns: int) -> str:
     return str(ns // 1_000_000_000)
-
-
-def human_time(ns: int) -> str:
-    moment = datetime.fromtimestamp(ns / 1e9, tz=UTC)
-    return moment.isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
 def human_time_or_none(ns: int | None) -> str | None:

@@ -1,8 +1,9 @@
 """Time series in an embedded SQLite file (`history.db` in the data dir).
 
-Writes go through the group-commit writer (one thread, the only write connection); reads run
-on their own threads and connections (`reader.py`). Times are ns since the epoch; `start` and
-`end` are inclusive, and `queries.MIN_TIME`/`MAX_TIME` stand for "no bound".
+The `HistoryStore` of the embedded setup (store/history.py). Writes go through the
+group-commit writer (one thread, the only write connection); reads run on their own threads
+and connections (`reader.py`). The command log and device properties live in the same file
+and share the writer's commits (store/sqlite/commands.py and properties.py use `write`).
 """
 
 from __future__ import annotations
@@ -15,16 +16,17 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from twinlink.domain.errors import StorageError
+from twinlink.domain.history import Aggregated, Compaction, Downsampled, SamplePage
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import retention
-from twinlink.store.sqlite.history.aggregate import Aggregated, aggregate
+from twinlink.store.sqlite.history.aggregate import aggregate
 from twinlink.store.sqlite.history.blocks import MAX_SIGNALS_PER_STREAM
 from twinlink.store.sqlite.history.budget import ReadBudget, ReadLimits
 from twinlink.store.sqlite.history.compact import Compacted
-from twinlink.store.sqlite.history.downsample import Downsampled, downsample
+from twinlink.store.sqlite.history.downsample import downsample
 from twinlink.store.sqlite.history.export import export_pieces
-from twinlink.store.sqlite.history.merge import SamplePage, sample_page
+from twinlink.store.sqlite.history.merge import sample_page
 from twinlink.store.sqlite.history.queries import data_extent, latest_values, select_series
 from twinlink.store.sqlite.history.reader import HistoryReader
 from twinlink.store.sqlite.history.streams import stream_summaries
@@ -40,7 +42,7 @@ COMPACT_ROUND_SERIES = 50
 COMPACT_ROUND_SAMPLES = 10_000
 COMPACT_GAP_S = 0.02
 
-__all__ = ["Aggregated", "Downsampled", "ReadLimits", "SamplePage", "SqliteHistory"]
+__all__ = ["ReadLimits", "SqliteHistory"]
 
 
 class SqliteHistory:
@@ -69,6 +71,8 @@ class SqliteHistory:
         return await self.writer.append(batch, device_id)
 
     async def write(self, fn: WriteFn) -> object:
+        """Run `fn(conn)` inside the next group commit; its result once committed (the
+        command log and device properties write this way)."""
         return await self.writer.write(fn)
 
     async def twin_ids(self) -> set[int]:
@@ -78,7 +82,7 @@ class SqliteHistory:
         )
         return {int(r[0]) for r in rows}
 
-    async def compact(self) -> Compacted:
+    async def compact(self) -> Compaction:
         """Merge small blocks of the series that got them since the last call, as many
         series per group commit as make about `COMPACT_ROUND_BLOCKS` blocks,
         `COMPACT_ROUND_SERIES` series or `COMPACT_ROUND_SAMPLES` samples (compact.py): each
@@ -92,7 +96,7 @@ class SqliteHistory:
             total.blocks_after += done.blocks_after
             if pending:
                 await asyncio.sleep(COMPACT_GAP_S)
-        return total
+        return Compaction(total.blocks_before, total.blocks_after)
 
     def _compact_some(
         self, conn: sqlite3.Connection, series: list[int]
@@ -241,6 +245,11 @@ class SqliteHistory:
         return [s.signal for s in series], pieces
 
     # -- deletes (through the writer's group commit, a chunk per commit) ---------------
+
+    async def reclaim_space(self) -> None:
+        """Checkpoint the WAL and truncate it (after a large deletion). Readers in the middle
+        of a long read make it busy; journal_size_limit trims the WAL once they are done."""
+        await self.writer.checkpoint()
 
     async def _repeat(self, fn: Callable[[Any], int], chunk: int, wal_room: bool = False) -> int:
         total = 0

@@ -16,18 +16,16 @@ from __future__ import annotations
 
 import sqlite3
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from twinlink.domain.history import Aggregated
 from twinlink.store.sqlite.history.budget import ReadBudget
 from twinlink.store.sqlite.history.columns import numeric_blocks
 from twinlink.store.sqlite.history.partials import Partials, sample_partials
 from twinlink.store.sqlite.history.queries import Series
 from twinlink.store.sqlite.history.scan import PAGE_SAMPLES, WHERE, SeriesSet, classify
-
-FUNCTIONS = ("avg", "min", "max", "count", "first", "last", "sum")
 
 # A block wholly inside [start, end] and inside one bucket: bucket(t) = (t - origin) / width.
 INSIDE_ONE_BUCKET = "kind != 'j' AND t0 >= ? AND t1 <= ? AND (t0 - ?) / ? = (t1 - ?) / ?"
@@ -40,12 +38,6 @@ _SPLIT = 26  # integer vsum (< 2^53) summed in SQL as high and low parts, which 
 
 def inside_args(start: int, end: int, origin: int, width: int) -> tuple[int, ...]:
     return (start, end, origin, width, origin, width)
-
-
-@dataclass(slots=True)
-class Aggregated:
-    rows: list[dict[str, Any]]
-    text_only: list[str]  # signals with blocks in range, none of them numeric
 
 
 def aggregate(

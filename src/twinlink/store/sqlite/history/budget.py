@@ -13,24 +13,15 @@ import threading
 import time
 from dataclasses import dataclass, field
 
+from twinlink.domain.history import (
+    QueryTimeoutError,
+    QueryTooLargeError,
+    ReadBudgetError,
+    ReadCancelledError,
+)
+
 # VM instructions between two looks at the budget: about a millisecond of SQLite work.
 _PROGRESS_EVERY = 20_000
-
-
-class ReadBudgetError(Exception):
-    """A read stopped before its end; the message says why and what to change."""
-
-
-class QueryTooLargeError(ReadBudgetError):
-    """The answer would hold more values than a read may (HTTP 422): narrow the query."""
-
-
-class QueryTimeoutError(ReadBudgetError):
-    """The read ran longer than it may (HTTP 503)."""
-
-
-class ReadCancelledError(ReadBudgetError):
-    """The read was stopped from outside: its client left, or the server is shutting down."""
 
 
 @dataclass(frozen=True, slots=True)

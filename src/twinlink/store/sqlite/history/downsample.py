@@ -28,12 +28,12 @@ from __future__ import annotations
 import itertools
 import sqlite3
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
+from twinlink.domain.history import Downsampled
 from twinlink.store.sqlite.history.aggregate import INSIDE_ONE_BUCKET, inside_args
 from twinlink.store.sqlite.history.budget import ReadBudget
 from twinlink.store.sqlite.history.chunked import minmax_of_blocks, unit_rows
@@ -58,9 +58,8 @@ from twinlink.store.sqlite.history.scan import (
     classify,
 )
 
-__all__ = ["METHODS", "SUMMARIES_FROM", "Downsampled", "downsample", "lttb"]
+__all__ = ["SUMMARIES_FROM", "downsample", "lttb"]
 
-METHODS = ("minmax", "lttb")
 MINMAX_RATIO = 4
 # Summaries (one SQL scan per side, no row to Python) pay off for many small blocks.
 SUMMARIES_FROM = 4  # blocks per bucket
@@ -70,13 +69,6 @@ SUMMARIES_FROM = 4  # blocks per bucket
 TOGETHER_FACTOR = 16
 TOGETHER_FROM = 8_192
 TOGETHER_UP_TO = 4 * PAGE_SAMPLES
-
-
-@dataclass(slots=True)
-class Downsampled:
-    times: Times
-    values: Values  # int64 for a signal of integers (exact), else float64
-    text_only: bool  # the signal has blocks in range, and none of them is numeric
 
 
 def downsample(

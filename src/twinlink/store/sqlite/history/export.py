@@ -19,13 +19,6 @@ from twinlink.store.sqlite.history.columns import Times
 from twinlink.store.sqlite.history.merge import Rows, joined_rows
 from twinlink.store.sqlite.history.queries import Series
 
-FORMATS = ("csv", "jsonl", "json")
-TIME_FORMATS = ("iso", "ns")
-MEDIA_TYPES = {
-    "csv": "text/csv; charset=utf-8",
-    "jsonl": "application/jsonl",
-    "json": "application/json",
-}
 _PIECE = 64 * 1024
 
 

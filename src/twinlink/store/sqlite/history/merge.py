@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 import orjson
 
+from twinlink.domain.history import SamplePage
 from twinlink.store.sqlite.history.budget import ReadBudget
 from twinlink.store.sqlite.history.codec import TIME_DTYPE, VALUE_DTYPES
 from twinlink.store.sqlite.history.columns import EMPTY_TIMES, Times, Values
@@ -203,12 +204,6 @@ def joined_rows(
         budget.check()
     if len(held):
         yield join_samples(held)
-
-
-@dataclass(slots=True)
-class SamplePage:
-    rows: list[dict[str, Any]]
-    next_key: tuple[int, int] | None  # (time, occurrence) of the first row not given
 
 
 def sample_page(

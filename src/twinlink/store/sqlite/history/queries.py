@@ -15,9 +15,8 @@ from typing import Any
 import orjson
 
 from twinlink.domain.errors import NotFoundError
+from twinlink.domain.history import MIN_TIME
 
-MIN_TIME = -(2**63)
-MAX_TIME = 2**63 - 1
 _KIND_NAMES = {"i": "integer", "f": "number", "b": "bool", "j": "string"}
 _IN_CHUNK = 500
 

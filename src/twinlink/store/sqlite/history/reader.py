@@ -21,7 +21,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Generic, TypeVar
 
-from twinlink.store.sqlite.history.budget import ReadBudget, ReadCancelledError
+from twinlink.domain.history import ReadCancelledError
+from twinlink.store.sqlite.history.budget import ReadBudget
 
 T = TypeVar("T")
 READ_THREADS = 4

@@ -18,8 +18,9 @@ import numpy as np
 import numpy.typing as npt
 import orjson
 
-from twinlink.store.sqlite.history.budget import QueryTooLargeError, ReadBudget
-from twinlink.store.sqlite.history.queries import IN_SERIES, MIN_TIME, Series
+from twinlink.domain.history import MIN_TIME, QueryTooLargeError
+from twinlink.store.sqlite.history.budget import ReadBudget
+from twinlink.store.sqlite.history.queries import IN_SERIES, Series
 
 IN_RANGE = "t0 BETWEEN ? AND ? AND t1 >= ?"
 WHERE = f"{IN_SERIES} AND {IN_RANGE}"  # params: SeriesSet.scan(start, end)

@@ -16,9 +16,10 @@ from typing import Any
 
 import numpy as np
 
+from twinlink.domain.history import MAX_TIME, MIN_TIME
 from twinlink.store.sqlite.history.budget import ReadBudget
 from twinlink.store.sqlite.history.codec import HASH_BITS, TIME_DTYPE
-from twinlink.store.sqlite.history.queries import MAX_TIME, MIN_TIME, Series, kind_name
+from twinlink.store.sqlite.history.queries import Series, kind_name
 from twinlink.store.sqlite.history.scan import SeriesSet, time_pages
 
 COUNT_LIMIT = 5_000_000  # times read at most to count the samples of one stream
