@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import sqlite3
 from pathlib import Path
 
 import pytest
 
-from twinlink.domain.errors import ConflictError
+from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import Edge, SearchRow, TwinWrite, Visibility
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite.db import connect, migrate, migrations
@@ -146,7 +145,7 @@ async def test_descendants_walk_and_exclusion(store: SqliteStore) -> None:
 
 async def test_write_is_atomic(store: SqliteStore) -> None:
     await save(store, write("dup", []))
-    with pytest.raises(sqlite3.IntegrityError):
+    with pytest.raises(WriteConflictError):
         await save(store, write("dup", [row("public", None, "Second")]))
     assert await store.count_twins() == 1
     assert (

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import sqlite3
 from typing import Any
 
 import orjson
@@ -24,6 +23,7 @@ from twinlink.domain.errors import (
     PayloadTooLargeError,
     StorageError,
     StorageFullError,
+    WriteConflictError,
 )
 
 log = logging.getLogger("twinlink.api")
@@ -119,8 +119,8 @@ def install(app: FastAPI) -> None:
         retry = {"Retry-After": str(STORAGE_RETRY_AFTER_S)}
         return problem(status, str(exc), headers=retry)
 
-    @app.exception_handler(sqlite3.IntegrityError)
-    async def _integrity(request: Request, exc: sqlite3.IntegrityError) -> Response:
+    @app.exception_handler(WriteConflictError)
+    async def _integrity(request: Request, exc: WriteConflictError) -> Response:
         # Services check for conflicts first; this is the safety net for a race between them.
         log.warning("store refused a write", extra={"event": "conflict", "path": request.url.path})
         return problem(409, "The change conflicts with the current state; retry it.")

@@ -58,6 +58,15 @@ class ConflictError(Exception):
     """The request contradicts the current state (a cycle, existing children, a taken name)."""
 
 
+class WriteConflictError(ConflictError):
+    """The store refused a write that contradicts what it holds (a name taken by a request
+    that ran at the same time): services check for conflicts first, this is the safety net
+    for a race between two of them. Sending the request again gets the right answer."""
+
+    def __init__(self, message: str = "The change conflicts with the current state; retry it."):
+        super().__init__(message)
+
+
 class InvalidInputError(ValueError):
     """A request that cannot be used as sent (HTTP 422); the message says what to change."""
 

@@ -7,7 +7,7 @@ from typing import Any
 
 import orjson
 
-from twinlink.domain.errors import ConflictError
+from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import ConnectorRecord
 from twinlink.store.sqlite.db import Database, next_id
 
@@ -66,7 +66,7 @@ class ConnectorTables:
 
         try:
             return await self.db.write(_create)
-        except sqlite3.IntegrityError as err:
+        except WriteConflictError as err:
             raise ConflictError(f"the twin already has a connector {name!r}") from err
 
     async def update_connector(

@@ -2,7 +2,8 @@
 
 SQLite allows one writer at a time; giving the connection a thread of its own turns every
 call into a queue entry instead of a lock fight, and keeps the event loop free. A write the
-disk refuses (full, I/O error) leaves as StorageFullError/StorageError (faults.py).
+disk refuses (full, I/O error) leaves as StorageFullError/StorageError (faults.py), one that
+breaks a constraint (a unique name) as WriteConflictError: no sqlite3 error leaves the store.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TypeVar
 
-from twinlink.domain.errors import StorageError
+from twinlink.domain.errors import StorageError, WriteConflictError
 from twinlink.store.sqlite.faults import StorageFaults, translate
 
 T = TypeVar("T")
@@ -107,6 +108,8 @@ class Database:
         loop = asyncio.get_running_loop()
         try:
             return await loop.run_in_executor(self._executor, fn, *args)
+        except sqlite3.IntegrityError as err:
+            raise WriteConflictError() from err
         except sqlite3.OperationalError as err:
             mapped = translate(err)
             if not isinstance(mapped, StorageError):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sqlite3
 from collections.abc import Mapping
 
-from twinlink.domain.errors import ConflictError
+from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import Device
 from twinlink.store.sqlite.db import Database, next_id
 
@@ -45,7 +45,7 @@ class DeviceTables:
 
         try:
             return await self.db.write(_create)
-        except sqlite3.IntegrityError as err:  # another request created it meanwhile
+        except WriteConflictError as err:  # another request created it meanwhile
             raise ConflictError(f"the twin already has a device {name!r}") from err
 
     async def list_devices(self, twin_id: int) -> list[Device]:

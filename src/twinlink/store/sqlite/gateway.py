@@ -7,7 +7,7 @@ from typing import Any
 
 import orjson
 
-from twinlink.domain.errors import ConflictError
+from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import AuditEntry, ServiceRecord
 from twinlink.store.sqlite.db import Database
 
@@ -75,7 +75,7 @@ class GatewayTables:
 
         try:
             return await self.db.write(_put)
-        except sqlite3.IntegrityError as err:
+        except WriteConflictError as err:
             raise ConflictError(f"the twin already has a service {record.name!r}") from err
 
     async def delete_service(self, twin_id: int, name: str) -> bool:

@@ -7,7 +7,7 @@ from typing import Any
 
 import orjson
 
-from twinlink.domain.errors import ConflictError
+from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import FmuRecord, ProcessorEvent, ProcessorRecord
 from twinlink.store.sqlite.db import Database, next_id
 
@@ -77,7 +77,7 @@ class ProcessorTables:
 
         try:
             return await self.db.write(_create)
-        except sqlite3.IntegrityError as err:
+        except WriteConflictError as err:
             raise ConflictError(f"the twin already has a processor {name!r}") from err
 
     async def update_processor(
