@@ -13,6 +13,7 @@ from fastapi import APIRouter, FastAPI, Request
 from starlette.responses import HTMLResponse, Response
 from starlette.staticfiles import StaticFiles
 
+from twinlink.api.contract import describe
 from twinlink.api.deps import MaybeCaller
 from twinlink.auth.service import AuthError
 
@@ -27,7 +28,7 @@ def _asset(name: str) -> str:
 async def openapi(request: Request, caller: MaybeCaller) -> Any:
     if caller.user is None and not request.app.state.settings.public_api_docs:
         raise AuthError("a token is required for the API description")
-    return request.app.openapi()
+    return describe(request.app)
 
 
 @router.get("/docs")
@@ -43,6 +44,7 @@ async def docs_script() -> Response:
 def install(app: FastAPI) -> None:
     import swagger_ui_bundle  # type: ignore[import-untyped]
 
+    app.openapi = lambda: describe(app)  # type: ignore[method-assign]
     app.include_router(router)
     app.mount(
         "/docs/assets", StaticFiles(directory=swagger_ui_bundle.swagger_ui_path), name="docs-assets"

@@ -10,13 +10,22 @@ from pydantic import BaseModel, Field
 
 from twinlink.api.deps import Caller
 from twinlink.api.devices import ThisDevice
+from twinlink.api.models.commands import CommandList, CommandView, PendingCommands, ResultAck
+from twinlink.api.models.problem import problems
 from twinlink.api.responses import JSONAnswer
 from twinlink.api.routing import ExactJsonRoute
 from twinlink.commands import CommandService
 from twinlink.commands.service import MAX_LIST, MAX_TIMEOUT_S
 from twinlink.domain.commands import STATES
 
-router = APIRouter(prefix="/api/v1", tags=["commands"], route_class=ExactJsonRoute)
+router = APIRouter(
+    prefix="/api/v1",
+    tags=["commands"],
+    route_class=ExactJsonRoute,
+    responses=problems(401, 404, 422, 503),
+)
+# Sending a command or a result stores it: a full disk refuses it.
+STORING = problems(409, 507)
 MAX_POLL_S = 60.0
 
 
@@ -48,7 +57,15 @@ class CommandResult(BaseModel):
     "/twins/{slug}/commands",
     summary="Send a command to a device (editors); 200 when finished, 202 while underway",
     response_class=JSONAnswer,
-    responses={202: {"description": "Sent (or queued) and not finished yet: poll its id"}},
+    response_model=CommandView,
+    responses={
+        202: {
+            "model": CommandView,
+            "description": "Sent (or queued) and not finished yet: poll its id",
+        },
+        **problems(403),
+        **STORING,
+    },
 )
 async def send_command(
     slug: str, body: NewCommand, caller: Caller, commands: Commands
@@ -63,6 +80,8 @@ async def send_command(
     "/twins/{slug}/commands",
     summary="The command log of a twin, newest first (viewers)",
     response_class=JSONAnswer,
+    response_model=CommandList,
+    responses=problems(403),
 )
 async def list_commands(
     slug: str,
@@ -72,20 +91,20 @@ async def list_commands(
     name: Annotated[str | None, Query(description="only commands of this name")] = None,
     device: Annotated[str | None, Query(description="only commands to this device")] = None,
     limit: Annotated[int, Query(ge=1, le=MAX_LIST)] = 100,
-) -> dict[str, Any]:
+) -> JSONAnswer:
     found = await commands.list_commands(caller, slug, state, name, device, limit)
-    return {"commands": [r.view(slug) for r in found]}
+    return JSONAnswer({"commands": [r.view(slug) for r in found]})
 
 
 @router.get(
     "/twins/{slug}/commands/{command_id}",
     summary="One command and its state (viewers)",
     response_class=JSONAnswer,
+    response_model=CommandView,
+    responses=problems(403),
 )
-async def get_command(
-    slug: str, command_id: str, caller: Caller, commands: Commands
-) -> dict[str, Any]:
-    return (await commands.get(caller, slug, command_id)).view(slug)
+async def get_command(slug: str, command_id: str, caller: Caller, commands: Commands) -> JSONAnswer:
+    return JSONAnswer((await commands.get(caller, slug, command_id)).view(slug))
 
 
 @router.get(
@@ -93,23 +112,28 @@ async def get_command(
     summary="Pending commands for this device, waiting up to `wait` s; they count as "
     "delivered (device token)",
     response_class=JSONAnswer,
+    response_model=PendingCommands,
+    responses=problems(507),
 )
 async def poll_commands(
     device: ThisDevice,
     commands: Commands,
     wait: Annotated[float, Query(ge=0, le=MAX_POLL_S, description="seconds to wait")] = 0,
-) -> dict[str, Any]:
+) -> JSONAnswer:
     found = await commands.poll(device, wait)
-    return {"commands": [{k: v for k, v in r.message().items() if k != "type"} for r in found]}
+    pending = [{k: v for k, v in r.message().items() if k != "type"} for r in found]
+    return JSONAnswer({"commands": pending})
 
 
 @router.post(
     "/device/commands/{command_id}/result",
     summary="The result of a command (device token)",
     response_class=JSONAnswer,
+    response_model=ResultAck,
+    responses=STORING,
 )
 async def post_result(
     command_id: str, body: CommandResult, device: ThisDevice, commands: Commands
-) -> dict[str, Any]:
+) -> JSONAnswer:
     record = await commands.record_result(device, command_id, body.status, body.result, body.error)
-    return {"id": record.id, "state": record.state, "late_status": record.late_status}
+    return JSONAnswer({"id": record.id, "state": record.state, "late_status": record.late_status})

@@ -11,6 +11,8 @@ from fastapi import APIRouter, Request, WebSocket
 from starlette.websockets import WebSocketDisconnect
 
 from twinlink.api.devices import ThisDevice
+from twinlink.api.models.problem import problems
+from twinlink.api.models.system import BATCH_BODY, Ack
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthError
@@ -37,8 +39,11 @@ def _bearer(headers: Any) -> str | None:
     "/device/samples",
     summary="Send a batch of samples (device token); the answer is its ack",
     response_class=JSONAnswer,
+    response_model=Ack,
+    responses=problems(401, 413, 422, 503, 507),
+    openapi_extra=BATCH_BODY,
 )
-async def post_samples(request: Request, device: ThisDevice) -> dict[str, Any]:
+async def post_samples(request: Request, device: ThisDevice) -> JSONAnswer:
     declared = request.headers.get("content-length")
     if declared is not None and declared.isdigit() and int(declared) > MAX_BATCH_BYTES:
         raise DocumentTooLargeError(f"A batch is at most {MAX_BATCH_BYTES} bytes.")
@@ -52,7 +57,7 @@ async def post_samples(request: Request, device: ThisDevice) -> dict[str, Any]:
     except JsonTextError as err:
         raise BatchError(f"the body is not JSON: {err}") from None
     ingest: IngestService = request.app.state.services.ingest
-    return (await ingest.ingest(device, parsed)).message()
+    return JSONAnswer((await ingest.ingest(device, parsed)).message())
 
 
 @router.websocket("/device/ws")

@@ -10,6 +10,16 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Body, Depends, Query, Request, Response
 
 from twinlink.api.deps import Caller
+from twinlink.api.models.gateway import (
+    AuditPage,
+    NewServiceAccount,
+    ServiceAccountList,
+    ServiceDeleted,
+    ServiceHealth,
+    Services,
+    ServiceView,
+)
+from twinlink.api.models.problem import problems
 from twinlink.api.params import HttpStatus, OlderThan, UnixSeconds
 from twinlink.api.responses import JSONAnswer
 from twinlink.api.routing import ExactJsonRoute
@@ -19,7 +29,14 @@ from twinlink.gateway.accounts import ServiceAccounts
 from twinlink.gateway.service import GatewayService
 from twinlink.gateway.services import Service
 
-router = APIRouter(prefix="/api/v1", tags=["gateway"], route_class=ExactJsonRoute)
+router = APIRouter(
+    prefix="/api/v1",
+    tags=["gateway"],
+    route_class=ExactJsonRoute,
+    responses=problems(401, 403, 404, 422, 503),
+)
+# Changing services or accounts: a name may be taken; the disk may be full.
+CHANGING = problems(409, 507)
 
 
 async def gateway_service(request: Request) -> GatewayService:
@@ -53,9 +70,10 @@ def view(service: Service) -> dict[str, Any]:
     summary="The twin's gateway services: features with an apiAddress and those added by API "
     "(viewers); credentials show only whether each secret is set",
     response_class=JSONAnswer,
+    response_model=Services,
 )
-async def list_services(slug: str, caller: Caller, gateway: Gateway) -> dict[str, Any]:
-    return {"services": [view(s) for s in await gateway.list(caller, slug)]}
+async def list_services(slug: str, caller: Caller, gateway: Gateway) -> JSONAnswer:
+    return JSONAnswer({"services": [view(s) for s in await gateway.list(caller, slug)]})
 
 
 @router.post(
@@ -63,6 +81,8 @@ async def list_services(slug: str, caller: Caller, gateway: Gateway) -> dict[str
     summary="Add a service by API (owners): name, base_url, auth, methods, limits, health_path",
     response_class=JSONAnswer,
     status_code=201,
+    response_model=ServiceView,
+    responses=CHANGING,
 )
 async def create_service(slug: str, body: Settings, caller: Caller, gateway: Gateway) -> Response:
     settings = dict(body)
@@ -74,10 +94,13 @@ async def create_service(slug: str, body: Settings, caller: Caller, gateway: Gat
 
 
 @router.get(
-    "/twins/{slug}/services/{name}", summary="One service (viewers)", response_class=JSONAnswer
+    "/twins/{slug}/services/{name}",
+    summary="One service (viewers)",
+    response_class=JSONAnswer,
+    response_model=ServiceView,
 )
-async def get_service(slug: str, name: str, caller: Caller, gateway: Gateway) -> dict[str, Any]:
-    return view(await gateway.get(caller, slug, name))
+async def get_service(slug: str, name: str, caller: Caller, gateway: Gateway) -> JSONAnswer:
+    return JSONAnswer(view(await gateway.get(caller, slug, name)))
 
 
 @router.patch(
@@ -85,30 +108,35 @@ async def get_service(slug: str, name: str, caller: Caller, gateway: Gateway) ->
     summary="Change a service's settings or credentials (owners). Secret fields left out of an "
     "`auth` of the same method are kept",
     response_class=JSONAnswer,
+    response_model=ServiceView,
+    responses=CHANGING,
 )
 async def update_service(
     slug: str, name: str, body: Settings, caller: Caller, gateway: Gateway
-) -> dict[str, Any]:
-    return view(await gateway.update(caller, slug, name, body))
+) -> JSONAnswer:
+    return JSONAnswer(view(await gateway.update(caller, slug, name, body)))
 
 
 @router.delete(
     "/twins/{slug}/services/{name}",
     summary="Delete a service added by API, or reset a document service's settings (owners)",
     response_class=JSONAnswer,
+    response_model=ServiceDeleted,
+    responses=CHANGING,
 )
-async def delete_service(slug: str, name: str, caller: Caller, gateway: Gateway) -> dict[str, Any]:
-    return {"service": name, "outcome": await gateway.delete(caller, slug, name)}
+async def delete_service(slug: str, name: str, caller: Caller, gateway: Gateway) -> JSONAnswer:
+    return JSONAnswer({"service": name, "outcome": await gateway.delete(caller, slug, name)})
 
 
 @router.get(
     "/twins/{slug}/services/{name}/health",
     summary="Check the service now: a GET of its health_path (or base URL) with its credentials",
     response_class=JSONAnswer,
+    response_model=ServiceHealth,
 )
-async def check_service(slug: str, name: str, caller: Caller, gateway: Gateway) -> dict[str, Any]:
+async def check_service(slug: str, name: str, caller: Caller, gateway: Gateway) -> JSONAnswer:
     service = await gateway.get(caller, slug, name)
-    return {"service": name, **(await health.check(gateway, service))}
+    return JSONAnswer({"service": name, **(await health.check(gateway, service))})
 
 
 @router.get(
@@ -116,6 +144,7 @@ async def check_service(slug: str, name: str, caller: Caller, gateway: Gateway) 
     summary="Requests the gateway answered, newest first. Admins see all; others name a "
     "`twin` they own",
     response_class=JSONAnswer,
+    response_model=AuditPage,
 )
 async def audit(
     caller: Caller,
@@ -129,7 +158,7 @@ async def audit(
     until: UnixSeconds = None,
     limit: Annotated[int, Query(ge=1, le=10_000)] = 100,
     before: OlderThan = None,
-) -> dict[str, Any]:
+) -> JSONAnswer:
     if not caller.is_admin:
         if twin is None:
             raise ForbiddenError("the whole audit log is for admins; name a `twin` you own")
@@ -145,6 +174,10 @@ async def audit(
         "until_ns": None if until is None else round(until * 1e9),
     }
     entries = await gateway.store.list_audit(filters, limit, before)
+    return JSONAnswer(_audit_page(entries, limit))
+
+
+def _audit_page(entries: list[Any], limit: int) -> dict[str, Any]:
     return {
         "entries": [
             {
@@ -173,9 +206,10 @@ async def audit(
     "/twins/{slug}/service-accounts",
     summary="The twin's service accounts (owners)",
     response_class=JSONAnswer,
+    response_model=ServiceAccountList,
 )
-async def list_accounts(slug: str, caller: Caller, accounts: Accounts) -> dict[str, Any]:
-    return {"service_accounts": await accounts.list(caller, slug)}
+async def list_accounts(slug: str, caller: Caller, accounts: Accounts) -> JSONAnswer:
+    return JSONAnswer({"service_accounts": await accounts.list(caller, slug)})
 
 
 @router.post(
@@ -184,6 +218,8 @@ async def list_accounts(slug: str, caller: Caller, accounts: Accounts) -> dict[s
     "gateway (owners); its token is shown once",
     response_class=JSONAnswer,
     status_code=201,
+    response_model=NewServiceAccount,
+    responses=CHANGING,
 )
 async def create_account(
     slug: str,
@@ -199,6 +235,8 @@ async def create_account(
     "/twins/{slug}/service-accounts/{name}",
     summary="Delete a service account and its tokens (owners)",
     status_code=204,
+    response_class=Response,
+    responses=CHANGING,
 )
 async def delete_account(slug: str, name: str, caller: Caller, accounts: Accounts) -> Response:
     await accounts.delete(caller, slug, name)

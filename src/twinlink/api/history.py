@@ -22,6 +22,14 @@ from starlette.responses import StreamingResponse
 from starlette.types import Send
 
 from twinlink.api.deps import Caller
+from twinlink.api.models.history import (
+    AggregateAnswer,
+    DownsampleAnswer,
+    Latest,
+    SamplesPage,
+    StreamList,
+)
+from twinlink.api.models.problem import problems
 from twinlink.api.responses import JSONAnswer
 from twinlink.domain.history import (
     FORMATS,
@@ -46,7 +54,13 @@ from twinlink.history.params import (
 )
 from twinlink.history.service import HistoryService, Selection
 
-router = APIRouter(prefix="/api/v1/twins/{slug}/streams", tags=["history"])
+# 403: the twin is seen (a public part) but the caller has no role on it; 503: a read over its
+# time budget, or storage that failed.
+router = APIRouter(
+    prefix="/api/v1/twins/{slug}/streams",
+    tags=["history"],
+    responses=problems(401, 403, 404, 422, 503),
+)
 log = logging.getLogger("twinlink.history")
 
 
@@ -55,6 +69,11 @@ def history_service(request: Request) -> HistoryService:
 
 
 History = Annotated[HistoryService, Depends(history_service)]
+# An export's answer by `format`: csv, jsonl or json, each a file (history's MEDIA_TYPES).
+EXPORT_CONTENT = {
+    media: {"schema": {"type": "string"}}
+    for media in ("text/csv", "application/jsonl", "application/json")
+}
 Signals = Annotated[
     str | None, Query(description="Comma-separated signal names; every signal when left out.")
 ]
@@ -125,7 +144,12 @@ def _selection(
     )
 
 
-@router.get("", summary="The twin's streams and their signals", response_class=JSONAnswer)
+@router.get(
+    "",
+    summary="The twin's streams and their signals",
+    response_class=JSONAnswer,
+    response_model=StreamList,
+)
 async def list_streams(slug: str, caller: Caller, history: History) -> JSONAnswer:
     return JSONAnswer(await history.streams(caller, slug))
 
@@ -134,6 +158,7 @@ async def list_streams(slug: str, caller: Caller, history: History) -> JSONAnswe
     "/{stream}/latest",
     summary="The newest value of each signal of a stream",
     response_class=JSONAnswer,
+    response_model=Latest,
 )
 async def latest(
     slug: str, stream: str, caller: Caller, history: History, signals: Signals = None
@@ -147,6 +172,7 @@ async def latest(
     "/{stream}/samples",
     summary="Stored samples in a time range, as rows joined on time, a page at a time",
     response_class=JSONAnswer,
+    response_model=SamplesPage,
 )
 async def samples(
     slug: str,
@@ -169,6 +195,7 @@ async def samples(
     "/{stream}/aggregate",
     summary="Aggregates (avg, min, max, count, first, last, sum) over fixed time buckets",
     response_class=JSONAnswer,
+    response_model=AggregateAnswer,
 )
 async def aggregate(
     slug: str,
@@ -197,6 +224,7 @@ async def aggregate(
     "/{stream}/downsample",
     summary="At most `points` samples per signal that keep the peaks (minmax or lttb)",
     response_class=JSONAnswer,
+    response_model=DownsampleAnswer,
 )
 async def downsample(
     slug: str,
@@ -223,6 +251,7 @@ async def downsample(
     summary="The range as a CSV, JSON lines or JSON file, streamed",
     response_class=ExportResponse,
     status_code=200,  # ExportResponse takes no status_code, from which FastAPI would read it
+    responses={200: {"description": "The file", "content": EXPORT_CONTENT}},
 )
 async def export(
     slug: str,

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from fastapi import APIRouter, Request
 
 from twinlink.api.deps import Admin
+from twinlink.api.models.problem import problems
+from twinlink.api.models.system import MqttStatus
 from twinlink.api.responses import JSONAnswer
 
 router = APIRouter(prefix="/api/v1", tags=["devices"])
@@ -16,6 +16,8 @@ router = APIRouter(prefix="/api/v1", tags=["devices"])
     "/mqtt",
     summary="MQTT: mode, address, state, connected devices and counts (admins)",
     response_class=JSONAnswer,
+    response_model=MqttStatus,
+    responses=problems(401, 403, 503),
 )
-async def mqtt_status(request: Request, _: Admin) -> dict[str, Any]:
-    return request.app.state.services.mqtt.view()  # type: ignore[no-any-return]
+async def mqtt_status(request: Request, _: Admin) -> JSONAnswer:
+    return JSONAnswer(request.app.state.services.mqtt.view())

@@ -6,12 +6,18 @@ from fastapi import APIRouter, Request
 from starlette.responses import HTMLResponse, Response
 
 from twinlink.api.deps import MaybeCaller, Registry
+from twinlink.api.models.problem import problems
 from twinlink.domain.yamlsource import dump_yaml
 from twinlink.web.render import index_page, twin_page
 
-router = APIRouter(tags=["documents"])
-
 YAML = "application/yaml"
+# The document is an object in YAML as in JSON; HTML is a page about it.
+_TEXT = {"schema": {"type": "string"}}
+_DOCUMENT = {"schema": {"type": "object", "additionalProperties": True}}
+# A token is optional here (public documents need none), but one that is sent must be valid.
+router = APIRouter(
+    tags=["documents"], default_response_class=Response, responses=problems(401, 404, 503)
+)
 _YAML_TYPES = ("application/yaml", "application/x-yaml", "text/yaml", "text/x-yaml")
 
 
@@ -64,7 +70,9 @@ async def _serve(slug: str, fmt: str, caller: MaybeCaller, reg: Registry) -> Res
 @router.get(
     "/twins/{slug}",
     summary="The twin's DT document (YAML, JSON or HTML by Accept)",
-    responses={200: {"content": {YAML: {}, "application/json": {}, "text/html": {}}}},
+    responses={
+        200: {"content": {YAML: _DOCUMENT, "application/json": _DOCUMENT, "text/html": _TEXT}}
+    },
 )
 async def twin_document(
     slug: str, request: Request, caller: MaybeCaller, reg: Registry
@@ -72,12 +80,20 @@ async def twin_document(
     return await _serve(slug, _negotiate(request.headers.get("accept", "")), caller, reg)
 
 
-@router.get("/twins/{slug}/index.yaml", summary="The twin's DT document as YAML")
+@router.get(
+    "/twins/{slug}/index.yaml",
+    summary="The twin's DT document as YAML",
+    responses={200: {"content": {YAML: _DOCUMENT}}},
+)
 async def twin_yaml(slug: str, caller: MaybeCaller, reg: Registry) -> Response:
     return await _serve(slug, "yaml", caller, reg)
 
 
-@router.get("/twins/{slug}/index.json", summary="The twin's DT document as JSON")
+@router.get(
+    "/twins/{slug}/index.json",
+    summary="The twin's DT document as JSON",
+    responses={200: {"content": {"application/json": _DOCUMENT}}},
+)
 async def twin_json(slug: str, caller: MaybeCaller, reg: Registry) -> Response:
     return await _serve(slug, "json", caller, reg)
 

@@ -7,6 +7,8 @@ from typing import Annotated
 from fastapi import APIRouter, Query
 
 from twinlink.api.deps import Caller, Search
+from twinlink.api.models.problem import problems
+from twinlink.api.models.search import SearchAnswer
 from twinlink.api.responses import JSONAnswer
 
 router = APIRouter(prefix="/api/v1", tags=["search"])
@@ -16,6 +18,8 @@ router = APIRouter(prefix="/api/v1", tags=["search"])
     "/search",
     summary="Find twins and the features that hold what you need",
     response_class=JSONAnswer,
+    response_model=SearchAnswer,
+    responses=problems(401, 422, 503),
 )
 async def search(
     caller: Caller,

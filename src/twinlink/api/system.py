@@ -4,29 +4,36 @@ from __future__ import annotations
 
 import hashlib
 import hmac
-from typing import Any
 
 from fastapi import APIRouter, Depends, Request
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 from starlette.responses import Response
 
 from twinlink.api.deps import Bearer, optional_principal
+from twinlink.api.models.problem import problems
+from twinlink.api.models.system import Healthy
 from twinlink.api.problems import problem
+from twinlink.api.responses import JSONAnswer
 from twinlink.auth.service import AuthError
 from twinlink.domain.errors import ForbiddenError
 
 router = APIRouter(tags=["system"])
 
 
-@router.get("/healthz", summary="Liveness and store health (no token needed)")
-async def healthz(request: Request) -> Any:
+@router.get(
+    "/healthz",
+    summary="Liveness and store health (no token needed)",
+    response_model=Healthy,
+    responses=problems(503),
+)
+async def healthz(request: Request) -> Response:
     try:
         ok = await request.app.state.services.store.ping()
     except Exception:  # a broken store is what this endpoint exists to report
         ok = False
     if not ok:
         return problem(503, "the store does not answer")
-    return {"status": "ok", "version": request.app.version}
+    return JSONAnswer({"status": "ok", "version": request.app.version})
 
 
 async def metrics_reader(request: Request, credentials: Bearer) -> None:
@@ -55,6 +62,11 @@ async def metrics_reader(request: Request, credentials: Bearer) -> None:
     summary="Prometheus metrics (text format): admins, or the metrics token "
     "(TWINLINK_METRICS_TOKEN)",
     dependencies=[Depends(metrics_reader)],
+    response_class=Response,
+    responses={
+        200: {"content": {"text/plain": {"schema": {"type": "string"}}}},  # Prometheus text
+        **problems(401, 403, 503),
+    },
 )
 async def metrics(request: Request) -> Response:
     store = request.app.state.services.store

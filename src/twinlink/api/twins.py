@@ -179,7 +179,7 @@ async def list_parts(slug: str, caller: Caller, reg: Registry) -> Parts:
     "/twins/{slug}/parts/{level}",
     summary="One privacy part, as stored (JSON, or YAML with format=yaml)",
     response_model=dict[str, Any],
-    responses={200: {"content": {YAML: {"schema": {"type": "string"}}}}, **problems(403)},
+    responses={200: {"content": {YAML: {"schema": {"type": "object"}}}}, **problems(403)},
 )
 async def get_part(
     slug: str,
