@@ -1,7 +1,8 @@
 """Finding blueprints: installed packages (entry points) and the blueprints folder.
 
 The built-in blueprints are ordinary entry points of the `twinlink.blueprints` group, found the
-same way as a third-party package's. In the folder, a `name.py` file or a `name/` package may
+same way as a third-party package's, and as connector kinds and credential methods are
+(`twinlink.plugins`, docs/plugins.md). In the folder, a `name.py` file or a `name/` package may
 define Blueprint subclasses, or a Tvilling digital style `class P` (run through the adapter
 under the module's name). A module that fails to import is listed with its error.
 
@@ -19,15 +20,15 @@ import inspect
 import logging
 import sys
 from dataclasses import dataclass
-from importlib.metadata import entry_points
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from twinlink.plugins import BLUEPRINTS, registered
 from twinlink.processors.blueprint import Blueprint, describe_blueprint
 
 log = logging.getLogger("twinlink.processors")
-GROUP = "twinlink.blueprints"
+GROUP = BLUEPRINTS
 
 BlueprintClass = type[Blueprint[Any]]
 
@@ -79,8 +80,8 @@ def load_ref(ref: dict[str, str]) -> BlueprintClass:
 def discover(folder: Path | None) -> dict[str, Entry]:
     """Every blueprint, installed ones first; a folder blueprint may not shadow one of them."""
     found: dict[str, Entry] = {}
-    for ep in entry_points(group=GROUP):
-        found[ep.name] = Entry(ep.name, {"entry": ep.value}, "installed")
+    for name, ep in registered(GROUP).items():  # a name claimed twice: twinlink's wins
+        found[name] = Entry(name, {"entry": ep.target}, "installed")
     if folder is not None and folder.is_dir():
         for entry in _folder_entries(folder):
             if entry.name in found:
