@@ -6,6 +6,8 @@ dist-info folder with its entry_points.txt), as pip would leave them."""
 from __future__ import annotations
 
 import logging
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -16,10 +18,15 @@ from twinlink.connectors import kinds
 from twinlink.connectors.base import Connector
 from twinlink.connectors.udp.connector import UdpConnector
 from twinlink.domain.errors import InvalidInputError
+from twinlink.domain.records import ServiceRecord, TwinRecord
+from twinlink.gateway import signin
 from twinlink.gateway.credentials import methods
 from twinlink.gateway.credentials.base import Credentials
 from twinlink.gateway.credentials.static import Basic
+from twinlink.gateway.exchange import GatewayProblem
+from twinlink.gateway.services import Service, ServiceBuilder
 from twinlink.gateway.spec import ServiceSettings
+from twinlink.gateway.vault import Vault
 from twinlink.plugins import (
     CONNECTORS,
     CREDENTIALS,
@@ -33,6 +40,7 @@ from twinlink.plugins import (
 )
 
 PACKAGE = "i14_fake_plugins"
+TWIN = TwinRecord(1, "tingen", "https://twin.example/tingen", "Tingen", 0, 0, "private")
 SHAPES = """
 from pydantic import BaseModel
 from twinlink.connectors.base import Connector
@@ -78,6 +86,22 @@ class Fine(Connector):
 class Nothing(Credentials[CredentialConfig]):
     method = "nothing"
     Config = CredentialConfig
+
+
+class Buggy(Credentials[CredentialConfig]):
+    method = "buggy"
+    Config = CredentialConfig
+
+    async def ready(self) -> int:
+        raise ZeroDivisionError("the-secret-in-a-message")
+
+
+class Unbuildable(Credentials[CredentialConfig]):
+    method = "unbuildable"
+    Config = CredentialConfig
+
+    def __init__(self, config: CredentialConfig) -> None:
+        raise KeyError("unbuildable")
 """
 ENTRY_POINTS = f"""
 [twinlink.connectors]
@@ -91,11 +115,13 @@ fine = {PACKAGE}.shapes:Fine
 [twinlink.credentials]
 broken = {PACKAGE}.broken:Thing
 nothing = {PACKAGE}.shapes:Nothing
+buggy = {PACKAGE}.shapes:Buggy
+unbuildable = {PACKAGE}.shapes:Unbuildable
 """
 
 
 @pytest.fixture
-def installed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def installed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     """A package `i14-fake-plugins` installed on sys.path, with plug-ins good and bad."""
     package = tmp_path / PACKAGE
     package.mkdir()
@@ -107,6 +133,9 @@ def installed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: i14-fake-plugins\nVersion: 1.0\n")
     (dist / "entry_points.txt").write_text(ENTRY_POINTS)
     monkeypatch.syspath_prepend(str(tmp_path))
+    yield
+    for name in [m for m in sys.modules if m.split(".")[0] == PACKAGE]:
+        del sys.modules[name]  # the next test's package is another folder
 
 
 def test_the_built_in_kinds_and_methods_are_entry_points_of_twinlink() -> None:
@@ -173,6 +202,30 @@ def test_a_broken_credential_method_refuses_settings_naming_it(
         ServiceSettings.model_validate({"auth": {"method": "nope"}})
     settings = ServiceSettings.model_validate({"auth": {"method": "nothing"}})
     assert type(methods.credentials_for(settings.auth)).__name__ == "Nothing"
+
+
+@pytest.mark.usefixtures("installed")
+async def test_a_credential_methods_bug_fails_its_own_service_only(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    monkeypatch.setattr(methods, "METHODS", Plugins(CREDENTIALS, Credentials, "method"))
+    builder = ServiceBuilder(store=None, vault=Vault.open(tmp_path, None))  # type: ignore[arg-type]
+
+    def built(method: str) -> Service:
+        settings = {"base_url": "http://svc.example/", "auth": {"method": method}}
+        record = ServiceRecord(1, 1, method, "api", settings, None, "http://svc.example:80")
+        return builder._service(TWIN, method, None, record)
+
+    with caplog.at_level(logging.ERROR, "twinlink.gateway"):
+        unbuildable = built("unbuildable")
+        assert unbuildable.blocked == "its unbuildable credentials failed (KeyError)"
+        with pytest.raises(GatewayProblem) as err:
+            await signin.sign_in(built("buggy"))
+    assert err.value.status == 502 and err.value.outcome == "refresh_failed"
+    assert "the buggy credential method failed (ZeroDivisionError)" in err.value.detail
+    assert "the-secret-in-a-message" not in err.value.detail
+    assert "ZeroDivisionError" in caplog.text  # the traceback, for whoever fixes the plug-in
+    assert await signin.sign_in(built("nothing")) == 0
 
 
 class _Settings(BaseModel):

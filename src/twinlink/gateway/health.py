@@ -8,7 +8,7 @@ import contextlib
 import time
 from typing import TYPE_CHECKING, Any
 
-from twinlink.gateway import paths
+from twinlink.gateway import paths, signin
 from twinlink.gateway.credentials.base import RefreshError
 from twinlink.gateway.services import Service
 from twinlink.gateway.upstream import UpstreamError, request_head
@@ -41,7 +41,7 @@ async def _probe(gateway: GatewayService, service: Service) -> int:
         raise UpstreamError("connect", service.blocked or "no address")
     rest = (service.settings.health_path or "").lstrip("/").encode()
     for attempt in (0, 1):
-        generation = await service.credentials.ready()
+        generation = await signin.ready(service.credentials)
         headers: list[tuple[bytes, bytes]] = [(b"host", service.host_header)]
         query: list[str] = []
         service.credentials.apply(headers, query)
@@ -54,7 +54,7 @@ async def _probe(gateway: GatewayService, service: Service) -> int:
             pass
         gateway.pool.release(conn)
         if status == 401 and attempt == 0 and service.credentials.can_refresh:
-            await service.credentials.refresh(generation)
+            await signin.refresh(service.credentials, generation)
             continue
         return status
     return 401

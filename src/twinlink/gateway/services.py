@@ -14,6 +14,7 @@ from twinlink.domain.merge import merge_parts
 from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.credentials.base import Credentials
 from twinlink.gateway.credentials.methods import credentials_for, shown_auth
+from twinlink.gateway.credentials.static import NoConfig, NoCredentials
 from twinlink.gateway.spec import (
     READ_METHODS,
     ServiceSettings,
@@ -218,10 +219,7 @@ class ServiceBuilder:
                 f"set for {record.auth_origin or 'no address'}); an owner must set them again"
             )
         key = (twin.id, name, record.modified_ns if record is not None else 0)
-        credentials = self._credentials.get(key)
-        if credentials is None:
-            credentials = credentials_for(settings.auth)
-            self._credentials[key] = credentials
+        credentials, failed = self._credentials_for(key, settings)
         return Service(
             twin_id=twin.id,
             twin_slug=twin.slug,
@@ -232,9 +230,26 @@ class ServiceBuilder:
             credentials=credentials,
             feature=feature,
             record=record,
-            blocked=blocked,
+            blocked=blocked or failed,
             stats=self.stats.setdefault((twin.id, name), ServiceStats()),
         )
+
+    def _credentials_for(
+        self, key: tuple[int, str, int], settings: ServiceSettings
+    ) -> tuple[Credentials[Any], str | None]:
+        """The service's credentials object, kept while its settings are unchanged; and why
+        the service is blocked if its method cannot make one (a plug-in's bug)."""
+        credentials = self._credentials.get(key)
+        if credentials is not None:
+            return credentials, None
+        try:
+            credentials = credentials_for(settings.auth)
+        except Exception as err:
+            log.exception("the %s credential method failed", settings.auth.method)
+            reason = f"its {settings.auth.method} credentials failed ({type(err).__name__})"
+            return NoCredentials(NoConfig()), reason
+        self._credentials[key] = credentials
+        return credentials, None
 
     def forget(self, twin_id: int, name: str) -> None:
         for key in [k for k in self._credentials if k[0] == twin_id and k[1] == name]:
