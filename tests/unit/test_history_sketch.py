@@ -232,7 +232,7 @@ async def test_a_chunk_across_three_buckets_is_read(sqlite_history: SqliteHistor
 async def test_a_history_file_from_before_migration_0003(tmp_path: Path) -> None:
     path = tmp_path / "history.db"
     conn = sqlite3.connect(path)
-    migrate(conn, target=2, folder_name="history_migrations")
+    migrate(conn, target=2, folder_name="history/migrations")
     conn.execute("INSERT INTO series VALUES (1, ?, ?, 'x', ?)", (TWIN, STREAM, 10**12))
     times, values = jittered(8000, 8)
     for i in range(0, 4000, 1000):  # as the writer stored blocks then: twelve columns

@@ -34,8 +34,9 @@ _MIGRATION_NAME = re.compile(r"^(\d{4})_[a-z0-9_]+\.sql$")
 
 
 def migrations(folder_name: str = "migrations") -> list[tuple[int, str, str]]:
-    """(version, file name, SQL) of every migration shipped in the package, in order."""
-    folder = resources.files("twinlink.store.sqlite") / folder_name
+    """(version, file name, SQL) of every migration shipped in the package, in order;
+    `folder_name` is relative to this package (`history/migrations` for history.db)."""
+    folder = resources.files("twinlink.store.sqlite").joinpath(*folder_name.split("/"))
     found = []
     for entry in folder.iterdir():
         match = _MIGRATION_NAME.match(entry.name)

@@ -100,7 +100,7 @@ class HistoryWriter:
 
     def _open(self) -> None:
         self._conn = open_connection(self.path, self.synchronous)
-        migrate(self._conn, folder_name="history_migrations")
+        migrate(self._conn, folder_name="history/migrations")
         self.blocks.load(self._conn)
 
     async def close(self) -> None:
