@@ -32,7 +32,7 @@ class Contract:
     def template(self, method: str, path: str) -> str:
         for template, pattern in self.patterns:
             if pattern.match(path) and method.lower() in self.spec["paths"][template]:
-                return template
+                return str(template)
         raise AssertionError(f"{method} {path} is not in /openapi.json")
 
     def check(self, response: httpx.Response) -> None:
