@@ -95,4 +95,4 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src edge $(DEMO) tests bench
 
 clean:
-	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info $(UI_OUT) ui/node_modules
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info edge/src/*.egg-info $(DEMO:%=%/src/*.egg-info) $(UI_OUT) ui/node_modules
