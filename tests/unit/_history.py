@@ -28,8 +28,8 @@ STREAM = "telemetry"
 
 @pytest.fixture(params=list(BACKENDS))
 async def history(request: pytest.FixtureRequest, tmp_path: Path) -> AsyncIterator[HistoryStore]:
-    async with BACKENDS[request.param](tmp_path) as stores:
-        yield stores.history
+    async with BACKENDS[request.param].history(tmp_path) as store:
+        yield store
 
 
 @pytest.fixture

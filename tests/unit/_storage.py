@@ -1,18 +1,20 @@
 """The storage backends that service-level tests run against, through the store protocols.
 
-A backend is one entry of `BACKENDS`: a function that opens every store of that backend in a
-folder (and closes them after). The `stores` fixture, and `history` in `_history.py`, run each
-test that takes them once per backend, with the backend's name in the test id
-(`test_x[sqlite]`). SQLite is the only one today; PostgreSQL comes as one more entry. A
-module opts in by importing the fixture (`from tests.unit._storage import stores as stores`).
+A backend is one entry of `BACKENDS`: an object that opens the stores of that backend with
+their data in a folder (and closes them after). The `stores` fixture, and `history` in
+`_history.py`, run each test that takes them once per backend, with the backend's name in
+the test id (`test_x[sqlite]`). SQLite is the only one today; PostgreSQL comes as one more
+entry. A module opts in by importing the fixture
+(`from tests.unit._storage import stores as stores`).
 """
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator
 from contextlib import AbstractAsyncContextManager, AsyncExitStack, asynccontextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 import pytest
 
@@ -35,34 +37,57 @@ class Stores:
     properties: PropertyStore
 
 
-@asynccontextmanager
-async def sqlite_stores(folder: Path) -> AsyncIterator[Stores]:
-    data_dir = folder / "data"
-    history = SqliteHistory(data_dir, "normal")  # no fsync per commit: tests need no power cuts
-    stores = Stores(
-        SqliteStore(data_dir), history, SqliteCommands(history), SqliteProperties(history)
-    )
-    async with opened(stores) as ready:
-        yield ready
+class Backend(Protocol):
+    def stores(self, folder: Path) -> AbstractAsyncContextManager[Stores]:
+        """Every store of the backend, open, with its data in `folder`."""
+        ...
+
+    def history(self, folder: Path) -> AbstractAsyncContextManager[HistoryStore]:
+        """The history store alone (what most history tests need)."""
+        ...
+
+
+class SqliteBackend:
+    @asynccontextmanager
+    async def stores(self, folder: Path) -> AsyncIterator[Stores]:
+        history = SqliteHistory(folder / "data", "normal")  # no fsync: no power cuts here
+        stores = Stores(
+            SqliteStore(folder / "data"), history, SqliteCommands(history),
+            SqliteProperties(history),
+        )  # fmt: skip
+        async with opened(stores.metadata, history, stores.commands, stores.properties):
+            yield stores
+
+    @asynccontextmanager
+    async def history(self, folder: Path) -> AsyncIterator[HistoryStore]:
+        history = SqliteHistory(folder / "data", "normal")
+        async with opened(history):
+            yield history
+
+
+class _Openable(Protocol):
+    async def open(self) -> None: ...
+
+    async def close(self) -> None: ...
 
 
 @asynccontextmanager
-async def opened(stores: Stores) -> AsyncIterator[Stores]:
-    """Open the stores in the order the app does (history before the stores that write
+async def opened(*stores: _Openable) -> AsyncIterator[None]:
+    """Open the stores in this order (as the app does: history before the stores that write
     through it), and close them in reverse."""
     async with AsyncExitStack() as stack:
-        for store in (stores.metadata, stores.history, stores.commands, stores.properties):
+        for store in stores:
             await store.open()
             stack.push_async_callback(store.close)
-        yield stores
+        yield
 
 
-BACKENDS: dict[str, Callable[[Path], AbstractAsyncContextManager[Stores]]] = {
-    "sqlite": sqlite_stores,
+BACKENDS: dict[str, Backend] = {
+    "sqlite": SqliteBackend(),
 }
 
 
 @pytest.fixture(params=list(BACKENDS))
 async def stores(request: pytest.FixtureRequest, tmp_path: Path) -> AsyncIterator[Stores]:
-    async with BACKENDS[request.param](tmp_path) as opened_stores:
+    async with BACKENDS[request.param].stores(tmp_path) as opened_stores:
         yield opened_stores
