@@ -21,15 +21,27 @@ from twinlink.registry.cache import GenerationCache
 from twinlink.registry.service import RegistryService
 from twinlink.store.sqlite import SqliteStore
 
+DEADLINE_S = 10.0  # for a held call to arrive: only a broken test waits this long
+
+
+class Held:
+    """A call held once it has read its answer (which may be out of date when it arrives):
+    `reached` is set then, and it goes on when `release` is."""
+
+    def __init__(self) -> None:
+        self.reached, self.release = asyncio.Event(), asyncio.Event()
+
+    async def until_reached(self) -> None:
+        await asyncio.wait_for(self.reached.wait(), DEADLINE_S)
+
 
 class CountingStore:
-    """The store, counting each call; `hold[name]` (an Event) makes that call wait on it
-    once it has read its answer (which may then be out of date when it arrives)."""
+    """The store, counting each call; `hold[name]` holds the calls of `name` (Held)."""
 
     def __init__(self, store: SqliteStore) -> None:
         self.store = store
         self.calls: Counter[str] = Counter()
-        self.hold: dict[str, asyncio.Event] = {}
+        self.hold: dict[str, Held] = {}
 
     def __getattr__(self, name: str) -> Any:
         method = getattr(self.store, name)
@@ -37,8 +49,10 @@ class CountingStore:
         async def call(*args: Any, **kwargs: Any) -> Any:
             self.calls[name] += 1
             answer = await method(*args, **kwargs)
-            if name in self.hold:
-                await self.hold[name].wait()
+            held = self.hold.get(name)
+            if held is not None:
+                held.reached.set()
+                await held.release.wait()
             return answer
 
         return call
@@ -144,14 +158,12 @@ async def test_a_role_read_during_a_change_is_not_kept(store: CountingStore) -> 
     alice = await user(store, "alice")
     twin = await private_twin(store, "rig", alice)
     await registry.get_twin("rig")
-    store.hold["get_role"] = asyncio.Event()
+    held = store.hold["get_role"] = Held()
     reading = asyncio.create_task(registry.require_twin(Principal(alice), "rig"))
-    while store.calls["get_role"] == 0:
-        await asyncio.sleep(0.001)
-    await asyncio.sleep(0.01)  # the role has been read ("owner") and is on its way
+    await held.until_reached()  # the role has been read ("owner") and is on its way
     await store.store.set_role(twin.id, alice.id, "viewer")  # a change lands meanwhile
     registry.changed()
-    store.hold["get_role"].set()
+    held.release.set()
     assert (await reading)[1] == "owner"  # the answer of a read that began before the change
     del store.hold["get_role"]
     assert (await registry.require_twin(Principal(alice), "rig"))[1] == "viewer"
@@ -240,15 +252,13 @@ async def test_cached_tokens_are_read_again_after_a_while(
 
 async def test_a_token_read_during_a_revocation_is_not_kept(store: CountingStore) -> None:
     auth, token = await signed_in(store)
-    store.hold["find_token"] = asyncio.Event()
+    held = store.hold["find_token"] = Held()
     reading = asyncio.create_task(auth.authenticate(token))
-    while store.calls["find_token"] == 0:
-        await asyncio.sleep(0.001)
-    await asyncio.sleep(0.01)  # the token has been read (valid) and is on its way
+    await held.until_reached()  # the token has been read (valid) and is on its way
     principal = Principal(await store.store.get_user_by_name("bob"))
     [record] = await store.store.list_tokens(None)
     await auth.revoke_token(principal, record.id)  # lands meanwhile
-    store.hold["find_token"].set()
+    held.release.set()
     await reading  # it passes: it began before the revocation
     del store.hold["find_token"]
     with pytest.raises(AuthError, match="revoked"):
