@@ -8,6 +8,13 @@
   function show(token) {
     form.hidden = true;
     document.getElementById("signout").hidden = false;
+    if (typeof SwaggerUIBundle === "undefined") {
+      // /docs/assets/ answered that the viewer is not built (the web app's build holds it).
+      document.getElementById("swagger-ui").textContent =
+        "The API viewer is not built: run make setup (or npm run build in ui/). " +
+        "The API description itself is at /openapi.json.";
+      return;
+    }
     const ui = SwaggerUIBundle({
       url: "/openapi.json",
       dom_id: "#swagger-ui",
@@ -16,6 +23,7 @@
         if (!req.headers.Authorization) req.headers.Authorization = "Bearer " + token;
         return req;
       },
+      // The token the page signed in with is the one "Try it out" sends (Authorize changes it).
       onComplete: function () { ui.preauthorizeApiKey("HTTPBearer", token); },
     });
   }
