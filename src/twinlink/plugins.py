@@ -141,6 +141,10 @@ class Plugins(Generic[T]):
         config = getattr(cls, "Config", None)
         if not (inspect.isclass(config) and issubclass(config, BaseModel)):
             raise TypeError(f"{entry.target}.Config is not a pydantic model")
+        try:  # the API shows it: a model without one would fail every listing of its group
+            config.model_json_schema()
+        except Exception as err:
+            raise TypeError(f"{entry.target}.Config has no JSON schema: {err}") from err
         return typing.cast("type[T]", cls)
 
 

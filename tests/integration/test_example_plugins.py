@@ -35,6 +35,7 @@ BROKEN_DIST = "twinlink_broken_plugin-1.0.dist-info"
 BROKEN_ENTRY_POINTS = """
 [twinlink.connectors]
 broken = twinlink_broken_plugin:Thing
+buggy = twinlink_buggy_plugin:Buggy
 
 [twinlink.blueprints]
 broken = twinlink_broken_plugin:Thing
@@ -56,9 +57,31 @@ def _install_example(work: Path) -> Path:
     return site
 
 
+BUGGY = """
+from pydantic import BaseModel
+from twinlink.connectors.base import Connector
+
+
+class Settings(BaseModel):
+    pass
+
+
+class Buggy(Connector):
+    kind = "buggy"
+    Config = Settings
+
+    async def prepare(self) -> None:
+        raise ZeroDivisionError("a bug on purpose")
+
+    async def run(self) -> None: ...
+"""
+
+
 def _install_broken(site: Path) -> None:
-    """A package whose module fails on import, registered in all three groups."""
+    """A package with a module that fails on import, registered in all three groups, and a
+    connector kind that loads but fails to start."""
     (site / "twinlink_broken_plugin.py").write_text("raise RuntimeError('broken on purpose')\n")
+    (site / "twinlink_buggy_plugin.py").write_text(BUGGY)
     dist = site / BROKEN_DIST
     dist.mkdir()
     (dist / "METADATA").write_text(
@@ -209,3 +232,19 @@ def test_a_broken_package_is_listed_as_not_available_and_refused(server: Server)
     assert "is broken" in assert_problem(processor, 422)["detail"]
     assert "'broken' is not available here" in assert_problem(service, 422)["detail"]
     assert "package twinlink-broken-plugin cannot be loaded, left out" in server.log()
+
+
+def test_a_connector_kind_that_fails_to_start_is_refused_with_its_error(server: Server) -> None:
+    slug = unique("plug")
+    with server.admin as admin:
+        apply(admin, twin_doc(f"urn:{slug}", name="Rig", slug=slug))
+        r = admin.post(f"/api/v1/twins/{slug}/connectors",
+                       json={"name": "b", "kind": "buggy", "config": {}})  # fmt: skip
+        problem = assert_problem(r, 422)
+        assert (
+            problem["detail"] == "connector 'b' cannot start: ZeroDivisionError: a bug on purpose"
+        )
+        assert admin.get(f"/api/v1/twins/{slug}/connectors").json()["connectors"] == []
+    assert (
+        "Traceback" in server.log() and "connector " + slug + "/b failed to start" in server.log()
+    )

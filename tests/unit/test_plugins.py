@@ -69,6 +69,13 @@ class Shapeless(Connector):
     async def run(self) -> None: ...
 
 
+class Schemaless(Connector):
+    kind = "schemaless"
+    Config = BaseModel  # itself, which has no schema
+
+    async def run(self) -> None: ...
+
+
 class StealsUdp(Connector):
     kind = "udp"
     Config = Settings
@@ -109,6 +116,7 @@ broken = {PACKAGE}.broken:Thing
 not_a_connector = {PACKAGE}.shapes:NotAConnector
 misnamed = {PACKAGE}.shapes:Misnamed
 shapeless = {PACKAGE}.shapes:Shapeless
+schemaless = {PACKAGE}.shapes:Schemaless
 udp = {PACKAGE}.shapes:StealsUdp
 fine = {PACKAGE}.shapes:Fine
 
@@ -166,7 +174,8 @@ def test_a_plugin_that_cannot_load_is_left_out_with_its_reason(
     assert "not a subclass of Connector" in reasons["not_a_connector"]
     assert "registered as 'misnamed' but its kind is 'something_else'" in reasons["misnamed"]
     assert "Config is not a pydantic model" in reasons["shapeless"]
-    assert set(reasons) == {"broken", "not_a_connector", "misnamed", "shapeless"}
+    assert "Config has no JSON schema" in reasons["schemaless"]
+    assert set(reasons) == {"broken", "not_a_connector", "misnamed", "shapeless", "schemaless"}
     assert plugins.get("fine").__name__ == "Fine"  # the rest of the package works
 
 
