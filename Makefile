@@ -86,13 +86,13 @@ ifneq ($(UI_BUILT),)
 endif
 
 lint: $(STAMP)
-	$(BIN)/ruff check src edge $(DEMO) tests bench
-	$(BIN)/ruff format --check src edge $(DEMO) tests bench
+	$(BIN)/ruff check src edge $(DEMO) examples/plugins tests bench
+	$(BIN)/ruff format --check src edge $(DEMO) examples/plugins tests bench
 	$(BIN)/mypy
 
 format: $(STAMP)
-	$(BIN)/ruff format src edge $(DEMO) tests bench
-	$(BIN)/ruff check --fix src edge $(DEMO) tests bench
+	$(BIN)/ruff format src edge $(DEMO) examples/plugins tests bench
+	$(BIN)/ruff check --fix src edge $(DEMO) examples/plugins tests bench
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache build dist src/*.egg-info edge/src/*.egg-info $(DEMO:%=%/src/*.egg-info) $(UI_OUT) ui/node_modules
