@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import httpx
+import pytest
 
 from tests.conftest import Server
 from tests.integration._util import (
@@ -21,6 +22,8 @@ from tests.integration._util import (
     twin_doc,
     unique,
 )
+
+pytestmark = pytest.mark.integration
 
 
 def test_service_account_gets_a_token_from_an_admin(server: Server) -> None:

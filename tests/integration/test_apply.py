@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import (
@@ -18,6 +20,8 @@ from tests.integration._util import (
     unique,
     wait_for_clock_past,
 )
+
+pytestmark = pytest.mark.integration
 
 # -- idempotent apply ----------------------------------------------------------------------
 

@@ -21,6 +21,8 @@ from tests.integration._util import (
     unique,
 )
 
+pytestmark = pytest.mark.integration
+
 # -- users: admin and non-admin -------------------------------------------------------------
 
 

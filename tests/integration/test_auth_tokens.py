@@ -25,6 +25,8 @@ from tests.integration._util import (
 )
 from twinlink.auth.service import MAX_TOKEN_LIFETIME_S
 
+pytestmark = pytest.mark.integration
+
 # The routes the policy lets through without a token. Everything else needs one.
 NO_TOKEN_OK = {("GET", "/healthz"), ("POST", "/api/v1/auth/login")}
 PUBLIC_DOCUMENT_ROUTES = {"/twins/{slug}", "/twins/{slug}/index.yaml", "/twins/{slug}/index.json"}

@@ -26,6 +26,8 @@ from tests.integration._util import (
     unique,
 )
 
+pytestmark = pytest.mark.integration
+
 CLI = [sys.executable, "-m", "twinlink"]
 
 

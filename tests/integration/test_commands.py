@@ -19,6 +19,8 @@ from tests.integration._device import FakeDevice, admin_client, make_twin
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import apply, assert_problem, make_user, twin_doc, unique
 
+pytestmark = pytest.mark.integration
+
 RIG_INTERFACE = {
     "commands": [
         {"name": "pause", "parameters": []},

@@ -17,6 +17,8 @@ from tests.conftest import ROOT, Server, restart_server, start_server, stop_serv
 from tests.integration._fixtures import no_server_errors as no_server_errors
 from tests.integration._util import apply, assert_problem, make_user, poll_until, twin_doc, unique
 
+pytestmark = pytest.mark.integration
+
 
 def _twin(server: Server) -> str:
     slug = unique("conn")

@@ -23,6 +23,8 @@ from tests.integration._fixtures import no_server_errors as no_server_errors
 from tests.integration._util import apply, assert_problem, poll_until, twin_doc, unique
 from tests.integration.test_opcua_security import write_identity
 
+pytestmark = pytest.mark.integration
+
 PASSWORD = "crane-op-7f3a9c"
 NS = "ns=2;s=Ilmatar"
 

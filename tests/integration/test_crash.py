@@ -17,6 +17,8 @@ from tests.conftest import Server, restart_server, start_server, stop_server
 from tests.integration._live import device_twin, stored_values
 from twinlink_edge.aio import AsyncDevice
 
+pytestmark = pytest.mark.integration
+
 DEVICES = 4
 PER_TICK = 50  # samples each device adds per loop turn
 

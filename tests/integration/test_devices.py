@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import pytest
+
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import apply, assert_problem, make_user, twin_doc, unique
+
+pytestmark = pytest.mark.integration
 
 
 def _twin_with_roles(server: Server) -> tuple[str, dict[str, str]]:

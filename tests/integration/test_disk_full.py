@@ -28,6 +28,8 @@ from tests.integration._live import (
 )
 from tests.integration._util import assert_problem, parse_time, poll_until
 
+pytestmark = pytest.mark.integration
+
 DISK_MB = 30
 
 

@@ -30,6 +30,8 @@ from tests.integration._util import (
 )
 from twinlink.domain.jsontext import int64_problem
 
+pytestmark = pytest.mark.integration
+
 # -- bad documents -------------------------------------------------------------------------
 
 

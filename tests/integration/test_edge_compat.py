@@ -20,6 +20,8 @@ from tests.integration._util import poll_until
 from tests.integration.test_edge_sdk import TIMEOUT, history
 from twinlink_edge.compat import Connect
 
+pytestmark = pytest.mark.integration
+
 LISTING_5_1 = """
 from twinlink_edge.compat import Connect  # was: from digitalTwinPlt import Connect
 

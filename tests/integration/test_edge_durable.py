@@ -18,6 +18,8 @@ from tests.integration._live import device_twin
 from tests.integration.test_edge_sdk import BASE_NS, TIMEOUT, history
 from twinlink_edge import Device
 
+pytestmark = pytest.mark.integration
+
 # Adds samples i = 0, 1, ... as fast as it can and prints each i once add() has returned.
 CHILD = """
 import sys

@@ -15,6 +15,8 @@ from tests.integration._live import device_twin
 from tests.integration.test_edge_sdk import BASE_NS, TIMEOUT, history
 from twinlink_edge import Ack, Device
 
+pytestmark = pytest.mark.integration
+
 
 @pytest.fixture
 def servers(tmp_path: Path) -> Iterator[list[Server]]:

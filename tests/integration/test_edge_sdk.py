@@ -9,11 +9,14 @@ import queue
 from typing import Any
 
 import httpx
+import pytest
 
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._live import device_twin
 from twinlink_edge import AsyncDevice, Device
+
+pytestmark = pytest.mark.integration
 
 TIMEOUT = 30.0
 BASE_NS = 1_800_000_000_000_000_000

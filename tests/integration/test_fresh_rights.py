@@ -6,11 +6,14 @@ from __future__ import annotations
 import asyncio
 
 import httpx
+import pytest
 
 from tests.conftest import Server
 from tests.integration._device import FakeDevice, make_twin
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import apply, assert_problem, make_user, twin_doc, unique
+
+pytestmark = pytest.mark.integration
 
 
 def grant(server: Server, slug: str, username: str, role: str | None) -> None:

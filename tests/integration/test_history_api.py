@@ -28,6 +28,8 @@ from tests.integration._fixtures import no_server_errors as no_server_errors  # 
 from tests.integration._live import twin_id
 from tests.integration._util import apply, assert_problem, make_user, twin_doc, unique
 
+pytestmark = pytest.mark.integration
+
 S = 10**9
 HOUR = 3600 * S
 # The start of the seeded hour: two hours ago, on a whole second.

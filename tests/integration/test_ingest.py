@@ -20,6 +20,8 @@ from tests.integration._live import (
 )
 from tests.integration._util import assert_problem
 
+pytestmark = pytest.mark.integration
+
 INTERFACE = {
     "signals": [
         {"name": "angle", "type": "number", "min": 0, "max": 1},

@@ -26,6 +26,8 @@ from tests.integration._fixtures import no_server_errors as no_server_errors  # 
 from tests.integration._live import TIMEOUT_S, device_twin, ws_url
 from tests.integration._util import apply, make_user, twin_doc, unique
 
+pytestmark = pytest.mark.integration
+
 QUEUE = 8  # the server's live_queue_messages, small so a slow client overflows soon
 T0 = 1_732_200_000_000_000_000
 MS = 1_000_000

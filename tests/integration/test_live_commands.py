@@ -10,6 +10,7 @@ from typing import Any
 
 import httpx
 import orjson
+import pytest
 from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed
 
@@ -17,6 +18,8 @@ from tests.conftest import Server
 from tests.integration._device import WAIT_S, FakeDevice, admin_client, make_twin
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import make_user, unique
+
+pytestmark = pytest.mark.integration
 
 RIG_INTERFACE = {
     "commands": [

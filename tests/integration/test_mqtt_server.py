@@ -10,10 +10,14 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors
 from tests.integration._mqtt import require_mosquitto
 from tests.integration._util import apply, assert_problem, make_user, twin_doc, unique
+
+pytestmark = pytest.mark.integration
 
 
 def test_a_device_publishes_to_the_servers_embedded_listener(server: Server) -> None:

@@ -30,6 +30,8 @@ from tests.integration._util import (
     unique,
 )
 
+pytestmark = pytest.mark.integration
+
 # -- privacy parts -------------------------------------------------------------------------
 
 

@@ -8,10 +8,14 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 from tests.conftest import Server
 from tests.integration._device import FakeDevice, admin_client, make_twin
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import assert_problem, make_user, unique
+
+pytestmark = pytest.mark.integration
 
 INTERFACE = {
     "properties": [

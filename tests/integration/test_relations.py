@@ -18,6 +18,8 @@ from tests.integration._util import (
     unique,
 )
 
+pytestmark = pytest.mark.integration
+
 
 class Twins:
     """Short names for a test's twins: `t.id("a")` is a unique id, `t.slug("a")` its slug."""

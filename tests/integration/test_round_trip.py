@@ -32,6 +32,8 @@ from tests.integration._util import (
     unique,
 )
 
+pytestmark = pytest.mark.integration
+
 TIMES = ("createdMachine", "createdHuman", "modifiedMachine", "modifiedHuman")
 
 

@@ -24,6 +24,8 @@ from tests.integration._util import (
     unique,
 )
 
+pytestmark = pytest.mark.integration
+
 PUBLIC = load_yaml(ILMATAR / "ilmatar-public.yaml")
 
 

@@ -26,6 +26,8 @@ from twinlink.auth.secrets import hash_password
 from twinlink.store.sqlite.db import connect, migrate, migrations
 from twinlink.store.sqlite.store import SqliteStore
 
+pytestmark = pytest.mark.integration
+
 DB_FILE = SqliteStore.FILE_NAME
 
 

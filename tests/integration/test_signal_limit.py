@@ -19,6 +19,8 @@ from tests.integration._live import (
 )
 from tests.integration._util import assert_problem
 
+pytestmark = pytest.mark.integration
+
 LIMIT = 5
 
 

@@ -17,6 +17,8 @@ from tests.conftest import EXAMPLES, Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import apply_file
 
+pytestmark = pytest.mark.integration
+
 ANGLE = "Cantilever_Angle_radians"
 
 

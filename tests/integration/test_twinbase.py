@@ -14,6 +14,8 @@ from tests.conftest import ROOT, Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import JSON_HEADERS, YAML_HEADERS, get_doc
 
+pytestmark = pytest.mark.integration
+
 TWINBASE = ROOT / "tests" / "unit" / "fixtures" / "twinbase"
 DOCUMENTS = sorted(p for p in TWINBASE.iterdir() if p.suffix in (".yaml", ".json"))
 

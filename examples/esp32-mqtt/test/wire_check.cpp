@@ -1,4 +1,4 @@
-// The messages of twinlink_mqtt as the platform sees them: tests/unit/test_esp32_example.py
+// The messages of twinlink_mqtt as the platform sees them: tests/integration/test_esp32_example.py
 // reads what this program writes with the platform's own parsers, and gives it what the
 // platform sends, so the example cannot drift from the scheme.
 //

@@ -12,6 +12,8 @@ from tests.conftest import FmuFiles
 from twinlink.processors.blueprint import Batch
 from twinlink.processors.worker import build
 
+pytestmark = pytest.mark.integration
+
 
 def test_an_fmu_starts_in_a_data_dir_given_as_a_relative_path(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmu_files: FmuFiles

@@ -8,8 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from tests.unit._fmu_c import FMI2_XML, build_fmu
+from tests.integration._fmu_c import FMI2_XML, build_fmu
 from twinlink.processors.fmuinfo import FmuError, check_archive, inspect_fmu
+
+pytestmark = pytest.mark.integration
 
 
 @pytest.fixture(scope="module")

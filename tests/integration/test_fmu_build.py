@@ -15,6 +15,8 @@ import pytest
 from tests.conftest import FMU_SOURCES, FmuFiles
 from twinlink.processors.fmubuild import FmuBuildError, build_fmu, build_if_stale, main
 
+pytestmark = pytest.mark.integration
+
 
 def copy_sources(name: str, dest: Path) -> Path:
     """A copy of an FMU's source folder (symbolic links copied as the files they point to)."""

@@ -49,6 +49,8 @@ from twinlink.ingest.mqtt.topics import (
     valid_filter,
 )
 
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "esp32-mqtt"
 TWIN, DEVICE = "tingen", "esp32"

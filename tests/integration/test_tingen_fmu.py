@@ -22,7 +22,9 @@ from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
 from tests.conftest import FmuFiles
-from tests.unit._fmi2_log import Fmi2Log
+from tests.integration._fmi2_log import Fmi2Log
+
+pytestmark = pytest.mark.integration
 
 # NTNU thesis, table 3.1
 L = 0.300  # m

@@ -11,9 +11,11 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from tests.unit._fmu_c import build_fmu
+from tests.integration._fmu_c import build_fmu
 from twinlink.processors.blueprint import Batch, BlueprintError, Context
 from twinlink.processors.blueprints.fmu import FmuBlueprint, FmuParams
+
+pytestmark = pytest.mark.integration
 
 S = 1_000_000_000
 T0 = 1_700_000_000 * S

@@ -21,7 +21,9 @@ from fmpy.fmi2 import (
 )
 
 from tests.conftest import FmuFiles
-from tests.unit._fmi2_log import Fmi2Log
+from tests.integration._fmi2_log import Fmi2Log
+
+pytestmark = pytest.mark.integration
 
 # Run in a child: instantiate the FMU, set the given Real variables, initialize, set the input u
 # (value reference 0), take `steps` steps of 0.1 s and print the outputs and the RSS as JSON.
