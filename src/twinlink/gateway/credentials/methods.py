@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from pydantic import BeforeValidator, SerializeAsAny
+from pydantic import BeforeValidator, SerializeAsAny, WithJsonSchema
 
 from twinlink.gateway.credentials.base import CredentialConfig, Credentials
 from twinlink.plugins import CREDENTIALS, Plugins, PluginUnavailable, shown_settings
@@ -42,7 +42,17 @@ def checked_auth(value: Any) -> Any:
 
 
 # A service's `auth`: any method's settings, checked by that method's model, dumped as such.
-AuthSettings = SerializeAsAny[Annotated[CredentialConfig, BeforeValidator(checked_auth)]]
+# Its JSON schema says only that much: the methods are known once the plug-ins are loaded.
+_AUTH_SCHEMA = {
+    "type": "object",
+    "description": "`method` and that method's settings (docs/gateway.md#credential-methods)",
+    "properties": {"method": {"type": "string", "description": "none, basic, bearer, ..."}},
+    "required": ["method"],
+    "additionalProperties": True,
+}
+AuthSettings = SerializeAsAny[
+    Annotated[CredentialConfig, BeforeValidator(checked_auth), WithJsonSchema(_AUTH_SCHEMA)]
+]
 
 
 def credentials_for(config: CredentialConfig) -> Credentials[Any]:
