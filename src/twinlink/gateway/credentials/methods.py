@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from pydantic import BeforeValidator, SerializeAsAny, WithJsonSchema
+from pydantic_core import PydanticCustomError
 
 from twinlink.gateway.credentials.base import CredentialConfig, Credentials
 from twinlink.plugins import CREDENTIALS, Plugins, PluginUnavailable, shown_settings
@@ -19,14 +20,15 @@ METHODS: Plugins[Credentials[Any]] = Plugins(CREDENTIALS, Credentials, "method")
 
 
 def method_class(method: str) -> type[Credentials[Any]]:
-    """The class of `method`; ValueError (a setting's error) if there is none here."""
+    """The class of `method`; a ValueError (a setting's error, worded for the person who gave
+    it) if there is none here."""
     try:
         return METHODS.get(method)
     except KeyError:
         known = ", ".join(METHODS.names())
-        raise ValueError(f"unknown method {method!r}; the methods are {known}") from None
+        raise _invalid(f"unknown method {method!r}; the methods are {known}") from None
     except PluginUnavailable as err:
-        raise ValueError(f"the credential method {method!r} is not available here: {err}") from err
+        raise _invalid(f"the credential method {method!r} is not available here: {err}") from err
 
 
 def checked_auth(value: Any) -> Any:
@@ -34,11 +36,17 @@ def checked_auth(value: Any) -> Any:
     if isinstance(value, CredentialConfig):
         return value
     if not isinstance(value, dict):
-        raise ValueError("`auth` is an object with a `method` and that method's settings")
+        raise _invalid("`auth` is an object with a `method` and that method's settings")
     method = value.get("method")
     if not isinstance(method, str):
-        raise ValueError(f"`auth` needs a `method`: one of {', '.join(METHODS.names())}")
+        raise _invalid(f"`auth` needs a `method`: one of {', '.join(METHODS.names())}")
     return method_class(method).Config.model_validate(value)
+
+
+def _invalid(message: str) -> PydanticCustomError:
+    # Not a plain ValueError, which pydantic would show as "Value error, <message>". Without
+    # a context, braces in the message are left as they are.
+    return PydanticCustomError("auth_method", message)
 
 
 # A service's `auth`: any method's settings, checked by that method's model, dumped as such.
