@@ -28,6 +28,7 @@ from twinlink.gateway.services import Service, ServiceBuilder
 from twinlink.gateway.spec import ServiceSettings
 from twinlink.gateway.vault import Vault
 from twinlink.plugins import (
+    BLUEPRINTS,
     CONNECTORS,
     CREDENTIALS,
     Plugins,
@@ -257,3 +258,15 @@ def test_secret_fields_are_those_typed_secret() -> None:
     shown = shown_settings(_Settings, public, set(secret))
     assert shown == {"user": "u", "password_set": True, "key_set": False, "body_set": True,
                      "PIN_set": True}  # fmt: skip
+
+
+def test_every_built_in_plugin_is_documented() -> None:
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    plugins, gateway = (docs / "plugins.md").read_text(), (docs / "gateway.md").read_text()
+    for group in (CONNECTORS, CREDENTIALS, BLUEPRINTS):
+        assert f"`{group}`" in plugins, f"docs/plugins.md does not name the group {group}"
+    undocumented = [m for m in registered(CREDENTIALS) if f"| `{m}` |" not in gateway]
+    assert undocumented == [], f"credential methods missing from docs/gateway.md: {undocumented}"
+    pages = {p.stem for p in docs.glob("*.md")}
+    no_page = [k for k in registered(CONNECTORS) if k not in pages]
+    assert no_page == [], f"connector kinds without a page docs/<kind>.md: {no_page}"
