@@ -24,7 +24,7 @@ UI_SRC   := $(wildcard ui/package.json ui/package-lock.json ui/index.html ui/vit
               ui/tsconfig*.json) $(shell find ui/src ui/public -type f 2>/dev/null)
 endif
 
-.PHONY: demo test unit integration bench lint format clean setup constraints
+.PHONY: demo test unit integration bench lint format clean setup constraints ui-types
 
 setup: $(STAMP) $(UI_BUILT)
 
@@ -84,6 +84,13 @@ bench: $(STAMP) $(UI_BUILT)
 ifneq ($(UI_BUILT),)
 	$(BIN)/python bench/ui_chart.py
 endif
+
+# The web app's API types, ui/src/api/openapi.ts, generated from the server's /openapi.json
+# (made without a server) by openapi-typescript: run after changing a route's models, and
+# commit the file. make test fails while it is stale (test_openapi_contract.py).
+ui-types: $(STAMP)
+	cd ui && { test -d node_modules || npm install --no-audit --no-fund; } && \
+		TWINLINK_PYTHON=$(CURDIR)/$(BIN)/python npm run api-types
 
 lint: $(STAMP)
 	$(BIN)/ruff check src edge $(DEMO) examples/plugins tests bench

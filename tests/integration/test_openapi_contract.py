@@ -6,6 +6,10 @@ description (tests/integration/_contract.py), then that every operation answered
 
 from __future__ import annotations
 
+import os
+import shutil
+import subprocess
+import sys
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -14,11 +18,12 @@ from typing import Any
 import httpx
 import pytest
 
-from tests.conftest import FmuFiles, Server
+from tests.conftest import ROOT, FmuFiles, Server
 from tests.integration._contract import Contract
 from tests.integration._util import YAML_HEADERS, make_user, twin_doc, unique
 
 pytestmark = pytest.mark.integration
+UI = ROOT / "ui"
 
 INTERFACE = {
     "signals": [{"name": "x", "unit": "m"}, {"name": "label", "type": "string"}],
@@ -294,3 +299,21 @@ def _removals(w: Walk) -> None:
     w.ok(w.admin.delete(f"/api/v1/twins/{w.slug}/devices/d1"))
     w.ok(w.admin.delete(f"/api/v1/twins/{w.slug}-child/parts/private"))
     w.ok(w.admin.delete(f"/api/v1/twins/{w.slug}", params={"cascade": True}))
+
+
+def test_the_web_apps_api_types_are_generated_from_this_description() -> None:
+    """ui/src/api/openapi.ts is what openapi-typescript makes of the description now (written
+    by `python -m twinlink.api.contract`, without a server): a change to a route's models
+    without `make ui-types` fails here."""
+    node = shutil.which("node")
+    assert node, "Node.js 20+ is needed (make test installs it)"
+    assert (UI / "node_modules" / "openapi-typescript").is_dir(), "run make test (npm install)"
+    run = subprocess.run(
+        [node, "scripts/api-types.mjs", "--check"],
+        cwd=UI,
+        env={**os.environ, "TWINLINK_PYTHON": sys.executable},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 0, run.stderr or run.stdout

@@ -1,44 +1,22 @@
 // Users, API tokens, a twin's roles and its devices' credentials
 // (docs/api.md "Users and tokens", "Roles" and "Devices").
 import { apiFetch } from "./client";
-import type { Device, Me } from "./types";
+import type { Me, Schemas } from "./types";
 
 const enc = encodeURIComponent;
 
 // -- tokens ----------------------------------------------------------------------------------
 
 /** What the server says about any token (never its secret nor its hash). */
-export interface TokenFields {
-  id: number;
-  name: string;
-  state: "active" | "expired" | "revoked";
-  prefix: string;
-  kind: "api" | "session" | string;
-  created: string;
-  expires: string | null;
-  last_used: string | null;
-  revoked: string | null;
-}
+export type TokenFields = Omit<Schemas["ListedToken"], "username" | "current">;
 
 /** A token as `GET /api/v1/tokens` lists it. */
-export interface TokenInfo extends TokenFields {
-  /** The user the token belongs to. */
-  username: string;
-  /** Whether it is the token the listing was asked with: this session's. */
-  current: boolean;
-}
+export type TokenInfo = Schemas["ListedToken"];
 
 /** A token just created: the only answer that holds its secret. */
-export interface IssuedToken extends TokenFields {
-  token: string;
-  username?: string;
-}
+export type IssuedToken = Schemas["IssuedToken"] & { username?: string };
 
-export interface NewToken {
-  name: string;
-  /** Lifetime in seconds; left out, the token does not expire. */
-  expires_in_s?: number;
-}
+export type NewToken = Schemas["NewToken"];
 
 export async function listTokens(all: boolean, signal?: AbortSignal): Promise<TokenInfo[]> {
   const answer = await apiFetch<{ tokens: TokenInfo[] }>("/api/v1/tokens", { query: { all: all || undefined }, signal });
@@ -61,22 +39,10 @@ export function revokeToken(id: number): Promise<{ revoked: number }> {
 
 export type User = Me;
 
-export interface NewUser {
-  username: string;
-  password?: string;
-  is_admin: boolean;
-  groups: string[];
-}
+export type NewUser = Schemas["NewUser"];
 
 /** Only the fields given change. */
-export interface UserChange {
-  password?: string;
-  /** Needed with a new password of one's own, unless one has none yet. */
-  current_password?: string;
-  is_admin?: boolean;
-  groups?: string[];
-  disabled?: boolean;
-}
+export type UserChange = Schemas["UserChange"];
 
 export async function listUsers(signal?: AbortSignal): Promise<User[]> {
   const answer = await apiFetch<{ users: User[] }>("/api/v1/users", { signal });
@@ -121,9 +87,7 @@ export function removeRole(slug: string, username: string): Promise<unknown> {
 // -- devices ---------------------------------------------------------------------------------
 
 /** A device just created or given a new token: the only answer that holds the token. */
-export interface DeviceWithToken extends Device {
-  token: string;
-}
+export type DeviceWithToken = Schemas["DeviceWithToken"];
 
 export function createDevice(slug: string, name: string, description: string): Promise<DeviceWithToken> {
   return apiFetch<DeviceWithToken>(`/api/v1/twins/${enc(slug)}/devices`, { method: "POST", json: { name, description } });

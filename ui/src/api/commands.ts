@@ -1,7 +1,7 @@
 // Commands, the command log and device properties of a twin, and the twin's declared
 // `interface` read from its document (docs/api.md "Commands and properties").
 import { apiFetch } from "./client";
-import type { TwinDocument } from "./types";
+import type { Schemas, TwinDocument } from "./types";
 
 const enc = encodeURIComponent;
 
@@ -43,45 +43,13 @@ export interface TwinInterface {
 export const COMMAND_STATES = ["pending", "delivered", "succeeded", "failed", "expired"] as const;
 export type CommandState = (typeof COMMAND_STATES)[number];
 
-export interface CommandRecord {
-  id: string;
-  twin: string;
-  device: string;
-  name: string;
-  args: Record<string, unknown>;
-  state: CommandState;
-  queued: boolean;
-  sent_by: string | null;
-  created: string;
-  expires: string;
-  delivered: string | null;
-  finished: string | null;
-  result: unknown;
-  error: string | null;
-  late_status: string | null;
-}
+export type CommandRecord = Schemas["CommandView"];
 
-export interface NewCommand {
-  name: string;
-  args: Record<string, unknown>;
-  device?: string;
-  timeout_s?: number;
-  queue?: boolean;
-  wait?: boolean;
-}
+export type NewCommand = Schemas["NewCommand"];
 
-export interface TimedValue {
-  value: unknown;
-  time: string;
-}
+export type TimedValue = Schemas["TimedProperty"];
 
-export interface DeviceProperties {
-  device: string;
-  reported: Record<string, TimedValue>;
-  desired: Record<string, TimedValue>;
-  delta: Record<string, unknown>;
-  version: number;
-}
+export type DeviceProperties = Schemas["DeviceProperties"];
 
 const VALUE_TYPES: readonly string[] = ["number", "integer", "bool", "string"];
 

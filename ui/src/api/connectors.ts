@@ -1,29 +1,9 @@
 import { apiFetch } from "./client";
+import type { Schemas } from "./types";
 
-export interface ConnectorStatus {
-  state: string;
-  since_ns: number;
-  last_message_ns: number | null;
-  messages: number;
-  samples: number;
-  rejected: number;
-  commands: number;
-  errors: Record<string, number>;
-  error_count: number;
-  last_error: string | null;
-  last_error_ns: number | null;
-  address?: string;
-}
+export type ConnectorStatus = Schemas["ConnectorStatus"];
 
-export interface Connector {
-  name: string;
-  twin: string;
-  kind: string;
-  device: string;
-  enabled: boolean;
-  config: Record<string, unknown>;
-  status: ConnectorStatus;
-}
+export type Connector = Schemas["ConnectorView"];
 
 const enc = encodeURIComponent;
 

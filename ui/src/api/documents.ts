@@ -1,23 +1,13 @@
 import { ApiError, apiFetch, apiRequest } from "./client";
+import type { Schemas } from "./types";
 
 const enc = encodeURIComponent;
 const YAML = "application/yaml";
 
 /** A problem the server found in a DT document, at its line when known. */
-export interface DocumentProblem {
-  message: string;
-  path?: string;
-  line?: number | null;
-  column?: number | null;
-  document?: number;
-}
+export type DocumentProblem = Schemas["ProblemItem"];
 
-export interface UpdateAnswer {
-  slug: string;
-  outcome: "created" | "updated" | "unchanged";
-  levels: string[];
-  dry_run?: boolean;
-}
+export type UpdateAnswer = Schemas["Updated"];
 
 export async function listParts(slug: string, signal?: AbortSignal): Promise<string[]> {
   const answer = await apiFetch<{ levels: string[] }>(`/api/v1/twins/${enc(slug)}/parts`, { signal });

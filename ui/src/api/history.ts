@@ -1,25 +1,16 @@
 // The history API of a twin's streams (docs/api.md, "History"). Times are ns since the epoch.
 import { apiFetch, apiRequest } from "./client";
+import type { Schemas } from "./types";
 
 const enc = encodeURIComponent;
 
 export type SignalKind = "integer" | "number" | "bool" | "string" | "mixed";
 
-export interface SignalInfo {
-  name: string;
-  kind: SignalKind;
-  count: number;
-  first: number | null;
-  last: number | null;
-}
+export type SignalInfo = Pick<Schemas["SignalInfo"], "name" | "kind" | "count" | "first" | "last">;
 
-export interface StreamInfo {
-  name: string;
-  count: number;
-  first: number | null;
-  last: number | null;
+export type StreamInfo = Pick<Schemas["StreamInfo"], "name" | "count" | "first" | "last"> & {
   signals: SignalInfo[];
-}
+};
 
 /** Kinds that can be drawn as a line (bools as 0 and 1). */
 export function isPlottable(kind: SignalKind): boolean {
@@ -32,14 +23,10 @@ export interface TimeRange {
   end?: string;
 }
 
-export interface DownsampleAnswer {
-  stream: string;
-  start: number | null;
-  end: number | null;
-  points: number;
-  skipped: string[];
-  signals: Record<string, { time: number[]; value: number[] }>;
-}
+export type DownsampleAnswer = Pick<
+  Schemas["DownsampleAnswer"],
+  "stream" | "start" | "end" | "points" | "skipped" | "signals"
+>;
 
 export type AggregateFn = "avg" | "min" | "max" | "count" | "first" | "last" | "sum";
 export const AGGREGATE_FNS: AggregateFn[] = ["avg", "min", "max", "count", "first", "last", "sum"];

@@ -1,5 +1,6 @@
 // Processors, blueprints and FMUs of a twin (docs/processors.md).
 import { apiFetch } from "./client";
+import type { Schemas } from "./types";
 
 const enc = encodeURIComponent;
 
@@ -33,100 +34,31 @@ export interface JsonSchema {
   [keyword: string]: unknown;
 }
 
-export interface Blueprint {
-  name: string;
-  source: string;
-  title?: string;
-  description?: string;
-  keeps_state?: boolean;
-  params_schema?: JsonSchema;
-  /** Set when the blueprint could not be loaded; it cannot be used then. */
-  error?: string | null;
-}
+export type Blueprint = Omit<Schemas["Blueprint"], "params_schema"> & { params_schema?: JsonSchema | null };
 
 export type ProcessorState = "starting" | "running" | "backoff" | "stopping" | "stopped" | "failed" | string;
 
-export interface InputMap {
-  signal: string;
-  scale: number;
-  offset: number;
-}
+export type InputMap = Schemas["InputMap"];
 
-export interface Rates {
-  min_input_spacing_s: number;
-  min_step_spacing_s: number;
-  min_output_spacing_s: number;
-  max_batch: number;
-}
+export type Rates = Schemas["Rates"];
 
-export interface Percentiles {
-  p50: number | null;
-  p99: number | null;
-}
+export type Percentiles = Schemas["Percentiles"];
 
-export interface ProcessorStats {
-  samples_in: number;
-  samples_out: number;
-  batches: number;
-  dropped: number;
-  restarts: number;
-  crashes: number;
-  rss_bytes: number;
-  step_time_s: Percentiles;
-  added_latency_s: Percentiles;
-}
+export type ProcessorStats = Schemas["ProcessorStats"];
 
-export interface Processor {
-  name: string;
-  twin: string;
-  blueprint: string;
-  source: string;
-  output: string | null;
-  inputs: Record<string, InputMap | string>;
-  params: Record<string, unknown>;
-  rates: Rates;
-  memory_limit_mb: number;
-  batch_timeout_s: number;
-  enabled: boolean;
+/** A processor as the API answers it (`ProcessorView`), with the fields the API leaves open
+ * (`running`: what the worker says of itself) typed as the app reads them. */
+export interface Processor extends Omit<Schemas["ProcessorView"], "running" | "state"> {
   state: ProcessorState;
-  pid: number | null;
-  last_error: string | null;
-  /** Unix time in seconds of the next start attempt (state backoff). */
-  restart_at: number | null;
-  stats: ProcessorStats | null;
   running: { inputs?: string[]; outputs?: string[]; describe?: Record<string, unknown> };
-  created_ns: number;
-  modified_ns: number;
-  /** Only in the answer of a change: whether the worker took new params in place. */
-  kept_state?: boolean;
 }
 
 /** What POST .../processors takes; fields left out get the server's defaults. */
-export interface ProcessorSpec {
-  name: string;
-  blueprint: string;
-  source?: string;
-  output?: string;
-  inputs?: Record<string, InputMap | string>;
-  params?: Record<string, unknown>;
-  rates?: Partial<Rates>;
-  memory_limit_mb?: number;
-  batch_timeout_s?: number;
-  enabled?: boolean;
-}
+export type ProcessorSpec = Schemas["ProcessorSpec"];
 
-export interface ProcessorEvent {
-  id: number;
-  time_ns: number;
-  kind: string;
-  message: string;
-  data: Record<string, unknown>;
-}
+export type ProcessorEvent = Schemas["ProcessorEvent"];
 
-export interface LogLine {
-  time_ns: number;
-  text: string;
-}
+export type LogLine = Schemas["LogLine"];
 
 export interface FmuVariable {
   name: string;
@@ -163,11 +95,7 @@ export interface StreamSignal {
   count: number;
 }
 
-export interface StreamSummary {
-  name: string;
-  count: number;
-  signals?: StreamSignal[];
-}
+export type StreamSummary = Schemas["StreamInfo"];
 
 const twinPath = (slug: string) => `/api/v1/twins/${enc(slug)}`;
 const processorPath = (slug: string, name: string) => `${twinPath(slug)}/processors/${enc(name)}`;

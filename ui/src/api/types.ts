@@ -1,31 +1,25 @@
-export interface Me {
-  username: string;
-  is_admin: boolean;
-  groups: string[];
-  disabled: boolean;
-  created: string;
-}
+// The API's answers, named for the app. Each is a type of openapi.ts, which is generated from
+// the server's /openapi.json (npm run api-types): never written twice by hand. Only the DT
+// document's fields are typed here, since the API carries the document as any JSON object.
+import type { components } from "./openapi";
 
-export interface LoginAnswer {
-  token: string;
-  token_type: string;
-  expires: string | null;
-}
+/** A schema of the API description by its name. */
+export type Schemas = components["schemas"];
 
-export interface TwinSummary {
-  slug: string;
-  id: string;
-  name: string;
-  url: string;
-  created: string;
-  modified: string;
-  levels: string[];
-}
-
-export interface TwinPage {
-  items: TwinSummary[];
-  next_cursor: string | null;
-}
+export type Me = Schemas["UserView"];
+export type LoginAnswer = Schemas["LoginAnswer"];
+export type TwinSummary = Schemas["TwinSummary"];
+export type TwinPage = Schemas["TwinPage"];
+export type RelationNode = Schemas["RelationNode"];
+export type Device = Schemas["DeviceState"];
+export type SearchMatch = Schemas["Match"];
+export type SearchHit = Schemas["Hit"];
+export type SearchAnswer = Schemas["SearchAnswer"];
+export type ServiceHealth = Schemas["Health"];
+export type Service = Schemas["ServiceView"];
+/** A service's figures since the server started. */
+export type ServiceStats = Schemas["ServiceStats"];
+export type AuditEntry = Schemas["AuditEntry"];
 
 export interface Feature {
   name: string;
@@ -58,102 +52,5 @@ export interface TwinDocument {
   [key: string]: unknown;
 }
 
-export interface Twin extends TwinSummary {
-  role: "owner" | "editor" | "viewer" | "admin" | null;
-  document: TwinDocument;
-}
-
-export interface RelationNode {
-  id: string;
-  slug?: string;
-  name?: string;
-  registered?: boolean;
-  nodes: RelationNode[];
-}
-
-export interface Device {
-  name: string;
-  twin: string;
-  description?: string | null;
-  token_prefix?: string;
-  created: string;
-  last_seen: string | null;
-  connected?: boolean;
-}
-
-export interface SearchMatch {
-  feature: string | null;
-  privacy: string;
-  snippet: string;
-}
-
-export interface SearchHit {
-  slug: string;
-  name: string;
-  score: number;
-  matches: SearchMatch[];
-}
-
-export interface SearchAnswer {
-  query: string;
-  keyword: string | null;
-  total: number;
-  limit: number;
-  offset: number;
-  hits: SearchHit[];
-  facets?: { keywords: { value: string; count: number }[]; counted_hits?: number };
-}
-
-export interface ServiceHealth {
-  checked_at: number;
-  path: string | null;
-  status: "up" | "down";
-  http_status: number | null;
-  ms: number;
-  error?: string;
-}
-
-export interface Service {
-  name: string;
-  twin: string;
-  source: "document" | "api";
-  base_url: string;
-  feature: string | null;
-  description: string | null;
-  auth: { method: string; [key: string]: unknown };
-  methods: string[];
-  health_path: string | null;
-  blocked: string | null;
-  gateway_path: string;
-  health: ServiceHealth | null;
-  requests: number;
-  stats?: ServiceStats;
-  credential_refreshes: number;
-  credential_error: string | null;
-}
-
-/** A service's figures since the server started. */
-export interface ServiceStats {
-  statuses: Record<string, number>;
-  failures: Record<string, number>;
-  bytes_in: number;
-  bytes_out: number;
-  upstream_ms: { mean: number; p50: number | null; p95: number | null } | null;
-}
-
-export interface AuditEntry {
-  id: number;
-  time: number;
-  time_iso: string;
-  twin: string;
-  service: string;
-  caller: string;
-  method: string;
-  path: string;
-  status: number;
-  outcome: string;
-  bytes_in: number;
-  bytes_out: number;
-  upstream_ms: number | null;
-  total_ms: number;
-}
+/** A twin as the caller may see it, its document typed. */
+export type Twin = Omit<Schemas["Twin"], "document"> & { document: TwinDocument };

@@ -5,12 +5,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, Field
 
 
 class ConnectorKind(BaseModel):
-    model_config = ConfigDict(extra="allow")
-
     kind: str
     description: str
     schema_: dict[str, Any] = Field(alias="schema", description="its config's JSON schema")
@@ -22,8 +20,6 @@ class ConnectorKinds(BaseModel):
 
 
 class ConnectorStatus(BaseModel):
-    model_config = ConfigDict(extra="allow")
-
     state: str
     since_ns: int
     errors: dict[str, int] = Field(description="kind of error -> count")

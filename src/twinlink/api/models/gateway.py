@@ -9,8 +9,6 @@ from pydantic import BaseModel, ConfigDict, Field
 
 
 class Health(BaseModel):
-    model_config = ConfigDict(extra="allow")
-
     checked_at: float = Field(description="Unix time in seconds")
     path: str | None
     status: Literal["up", "down"]
@@ -33,16 +31,23 @@ class ServiceStats(BaseModel):
     upstream_ms: UpstreamMs | None
 
 
-class ServiceView(BaseModel):
-    model_config = ConfigDict(extra="allow")
+class ServiceAuth(BaseModel):
+    """How the gateway signs in to the service: `method`, and its settings (a secret only as
+    `<name>_set`: whether it is set)."""
 
+    model_config = ConfigDict(extra="allow", json_schema_extra={"additionalProperties": True})
+
+    method: str
+
+
+class ServiceView(BaseModel):
     name: str
     twin: str
     source: Literal["document", "api"]
     base_url: str
     feature: str | None
     description: str | None
-    auth: dict[str, Any] = Field(description="`method` and its settings; secrets as `*_set`")
+    auth: ServiceAuth
     methods: list[str]
     limits: dict[str, float]
     health_path: str | None

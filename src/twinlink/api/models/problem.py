@@ -24,8 +24,6 @@ class ProblemItem(BaseModel):
     """One thing wrong with the request: where (a parameter's path, or a document's line)
     and what."""
 
-    model_config = ConfigDict(extra="allow")
-
     message: str
     path: str | None = Field(None, description="e.g. `query.limit` or `features[0].name`")
     line: int | None = Field(None, description="the line in a DT document, from 1")

@@ -41,8 +41,6 @@ class ProcessorStats(BaseModel):
 
 
 class ProcessorView(BaseModel):
-    model_config = ConfigDict(extra="allow")
-
     name: str
     twin: str
     blueprint: str

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, Field
 
 
 class Healthy(BaseModel):
@@ -13,8 +13,6 @@ class Healthy(BaseModel):
 
 
 class MqttStatus(BaseModel):
-    model_config = ConfigDict(extra="allow")
-
     state: str
     since_ns: int
     errors: dict[str, int]
@@ -34,8 +32,6 @@ class MqttStatus(BaseModel):
 
 class Ack(BaseModel):
     """A batch's ack (docs/protocol.md): sent once the accepted samples are stored."""
-
-    model_config = ConfigDict(extra="allow")
 
     type: Literal["ack"]
     seq: Any = Field(description="the batch's `seq`, as sent")

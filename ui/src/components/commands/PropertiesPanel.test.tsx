@@ -17,7 +17,15 @@ const decls = readInterface({
   },
 }).properties;
 
-const device: Device = { name: "tingenSAP", twin: "tingen", created: "2026-11-21T09:00:00Z", last_seen: "2026-11-21T10:00:00Z", connected: true };
+const device: Device = {
+  name: "tingenSAP",
+  twin: "tingen",
+  description: "",
+  token_prefix: "tld_x",
+  created: "2026-11-21T09:00:00Z",
+  last_seen: "2026-11-21T10:00:00Z",
+  connected: true,
+};
 const T = "2026-11-21T10:00:00.000Z";
 
 function props(over: Partial<DeviceProperties> = {}): DeviceProperties {

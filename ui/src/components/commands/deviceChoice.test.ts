@@ -3,7 +3,7 @@ import { ApiError } from "../../api/client";
 import { CHOOSE_DEVICE, forThisPage, preselectDevice } from "./deviceChoice";
 
 const T = "2026-11-21T10:00:00Z";
-const device = (name: string, connected = false) => ({ name, twin: "tingen", created: T, last_seen: null, connected });
+const device = (name: string, connected = false) => ({ name, twin: "tingen", description: "", token_prefix: "tld_x", created: T, last_seen: null, connected });
 
 describe("the device a command goes to", () => {
   it("preselects the server's choice, the declared default, the only connected, the only device", () => {

@@ -8,9 +8,10 @@ import { StateBadge } from "./StateBadge";
 
 function inputText(value: InputMap | string): string {
   if (typeof value === "string") return value;
+  const { scale = 1, offset = 0 } = value; // the server's defaults
   const parts = [value.signal];
-  if (value.scale !== 1) parts.push(`× ${value.scale}`);
-  if (value.offset !== 0) parts.push(`${value.offset < 0 ? "−" : "+"} ${Math.abs(value.offset)}`);
+  if (scale !== 1) parts.push(`× ${scale}`);
+  if (offset !== 0) parts.push(`${offset < 0 ? "−" : "+"} ${Math.abs(offset)}`);
   return parts.join(" ");
 }
 

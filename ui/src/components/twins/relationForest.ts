@@ -48,7 +48,7 @@ export function mergeSubtrees(twins: ListedTwin[], subtrees: RelationNode[]): Re
   for (const twin of twins) graph.info.set(twin.id, { slug: twin.slug, name: twin.name });
   const visit = (node: RelationNode) => {
     if (!graph.info.has(node.id) || (node.slug && !graph.info.get(node.id)?.slug)) {
-      graph.info.set(node.id, { slug: node.slug, name: node.name ?? node.slug ?? node.id });
+      graph.info.set(node.id, { slug: node.slug ?? undefined, name: node.name ?? node.slug ?? node.id });
     }
     const children = graph.children.get(node.id) ?? [];
     for (const child of node.nodes) {
