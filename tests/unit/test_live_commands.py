@@ -4,6 +4,7 @@ refusals, and ops running side by side within their limit."""
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Callable
 from typing import Any
 
 import orjson
@@ -16,12 +17,14 @@ from twinlink.bus import MemoryBus
 from twinlink.domain.commands import CommandRecord
 from twinlink.domain.errors import ForbiddenError, InvalidInputError
 from twinlink.domain.jsontext import int64_problem
-from twinlink.live.commands import CommandOps
+from twinlink.live.commands import CommandOps, CommandSender
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
+from twinlink.live.protocol import CommandRequest
 from twinlink.live.session import LiveSession
 
 T0 = 1_732_200_000_000_000_000
+DEADLINE_S = 10.0  # for what the session is waited on to do: only a broken test waits this long
 
 
 class FakeCommands:
@@ -87,13 +90,33 @@ async def op(session: LiveSession, **fields: Any) -> None:
     await session.handle(orjson.dumps({"op": "command", "id": "c1", "twin": "rig", **fields}))
 
 
+async def until(condition: Callable[[], bool]) -> None:
+    """Poll the session's real state until `condition` holds (or the deadline passes)."""
+    async with asyncio.timeout(DEADLINE_S):
+        while not condition():
+            await asyncio.sleep(0.001)  # polling the state, not waiting for it to change
+
+
 async def settled(session: LiveSession) -> list[dict[str, Any]]:
     """What the session sent once its command ops have finished."""
-    assert session.commands is not None
-    async with asyncio.timeout(5):
-        while len(session.commands):
-            await asyncio.sleep(0.001)
+    ops = session.commands
+    assert ops is not None
+    await until(lambda: len(ops) == 0)
     return sent(session)
+
+
+class WatchedOps(CommandOps):
+    """Command ops that tell when an op arrives while `limit` ops are under way."""
+
+    def __init__(self, sender: CommandSender, outbox: Outbox, limit: int) -> None:
+        super().__init__(sender, outbox, limit)
+        self.limit = limit
+        self.arrived_when_full = asyncio.Event()
+
+    async def start(self, principal: Principal, request: CommandRequest) -> None:
+        if len(self) >= self.limit:
+            self.arrived_when_full.set()
+        await super().start(principal, request)
 
 
 async def test_a_command_is_answered_with_its_record_when_finished() -> None:
@@ -178,7 +201,7 @@ async def test_ops_run_side_by_side() -> None:
     session, commands, _ = make()
     await op(session, id="slow", name="slow")
     await op(session, id="fast", name="pause")
-    await asyncio.sleep(0.01)
+    await until(lambda: len(session.outbox) > 0)  # an answer, while the slow one is held
     assert [m["id"] for m in sent(session)] == ["fast"]  # not held up by the slow one
     commands.release.set()
     assert [m["id"] for m in await settled(session)] == ["slow"]
@@ -186,13 +209,14 @@ async def test_ops_run_side_by_side() -> None:
 
 async def test_at_most_limit_ops_are_under_way_and_then_reading_waits() -> None:
     session, commands, _ = make()
-    session.commands = CommandOps(commands, session.outbox, limit=1)
+    ops = session.commands = WatchedOps(commands, session.outbox, limit=1)
     await op(session, id="a", name="slow")
     second = asyncio.create_task(op(session, id="b", name="pause"))
-    await asyncio.sleep(0.01)
+    await asyncio.wait_for(ops.arrived_when_full.wait(), DEADLINE_S)
+    # It arrived with "a" under way: it waits for room, and reading the client waits with it.
     assert not second.done() and len(commands.sent) == 1
     commands.release.set()
-    await asyncio.wait_for(second, 5)
+    await asyncio.wait_for(second, DEADLINE_S)
     assert sorted(m["id"] for m in await settled(session)) == ["a", "b"]
 
 
