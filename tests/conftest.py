@@ -1,5 +1,8 @@
 """Shared fixtures. Integration tests start a real `twinlink up` process on a random
-loopback port and talk to it with a real HTTP client; the process is stopped afterwards."""
+loopback port and talk to it with a real HTTP client; the process is stopped afterwards.
+
+tests/_hygiene.py (loaded below) fails a test that leaves a task, thread or child process
+running, an integration module without its marker, and a unit test that compiles."""
 
 from __future__ import annotations
 
@@ -16,6 +19,8 @@ from pathlib import Path
 
 import httpx
 import pytest
+
+pytest_plugins = ["tests._hygiene"]
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
