@@ -32,9 +32,9 @@ from twinlink.api import connectors as connectors_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import mqtt as mqtt_api
-from twinlink.auth.devices import DeviceService
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
+from twinlink.auth.vault import Vault
 from twinlink.bus import Bus, MemoryBus
 from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
@@ -43,7 +43,6 @@ from twinlink.connectors.service import ConnectorService
 from twinlink.gateway.metrics import GatewayCollector
 from twinlink.gateway.proxy import GatewayApp
 from twinlink.gateway.service import GatewayService
-from twinlink.gateway.vault import Vault
 from twinlink.history.maintenance import HistoryMaintenance
 from twinlink.history.service import HistoryService
 from twinlink.ingest.mqtt import MqttService
@@ -55,6 +54,7 @@ from twinlink.metrics import DataPlaneCollector, Metrics, MetricsMiddleware
 from twinlink.processors.fmus import FmuService
 from twinlink.processors.metrics import ProcessorCollector
 from twinlink.processors.service import ProcessorService
+from twinlink.registry.devices import DeviceService
 from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore

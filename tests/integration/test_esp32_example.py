@@ -24,7 +24,6 @@ import orjson
 import pytest
 import yaml
 
-from twinlink.auth.devices import DEVICE_NAME
 from twinlink.commands.rules import check_reported, rules_from_interface
 from twinlink.domain.samples import OPEN_SCHEMA, read_batch, schema_from_interface
 from twinlink.domain.slug import SLUG
@@ -48,6 +47,7 @@ from twinlink.ingest.mqtt.topics import (
     TopicScheme,
     valid_filter,
 )
+from twinlink.registry.devices import DEVICE_NAME
 
 pytestmark = pytest.mark.integration
 

@@ -303,7 +303,7 @@ def _removals(w: Walk) -> None:
 
 def test_the_web_apps_api_types_are_generated_from_this_description() -> None:
     """ui/src/api/openapi.ts is what openapi-typescript makes of the description now (written
-    by `python -m twinlink.api.contract`, without a server): a change to a route's models
+    by `python -m twinlink.openapi`, without a server): a change to a route's models
     without `make ui-types` fails here."""
     node = shutil.which("node")
     assert node, "Node.js 20+ is needed (make test installs it)"

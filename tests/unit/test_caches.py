@@ -12,12 +12,12 @@ from typing import Any
 import pytest
 
 from twinlink.auth import service as auth_module
-from twinlink.auth.devices import DeviceService
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError, AuthService
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.domain.records import SearchRow, TwinRecord, TwinWrite, User
 from twinlink.registry.cache import GenerationCache
+from twinlink.registry.devices import DeviceService
 from twinlink.registry.service import RegistryService
 from twinlink.store.sqlite import SqliteStore
 

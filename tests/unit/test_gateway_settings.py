@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 from pydantic import ValidationError
 
+from twinlink.auth.vault import Vault, VaultError
 from twinlink.gateway.credentials.base import CredentialConfig, RefreshError, scrub
 from twinlink.gateway.credentials.methods import credentials_for, shown_auth
 from twinlink.gateway.credentials.token import TokenCredentials, json_path, seconds
 from twinlink.gateway.spec import ServiceSettings, check_base_url, origin, service_name
-from twinlink.gateway.vault import Vault, VaultError
 from twinlink.plugins import split_secrets
 
 

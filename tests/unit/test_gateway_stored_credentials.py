@@ -10,11 +10,11 @@ from typing import Any
 
 import pytest
 
+from twinlink.auth.vault import Vault
 from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.credentials.base import Credentials
-from twinlink.gateway.services import Service, ServiceBuilder
 from twinlink.gateway.spec import ServiceSettings, origin
-from twinlink.gateway.vault import Vault
+from twinlink.gateway.table import Service, ServiceBuilder
 from twinlink.plugins import split_secrets
 
 URL = "http://svc.example:8080/api/"

@@ -13,13 +13,13 @@ from typing import Any
 import pytest
 
 from twinlink.api.device_ws import _recheck_token
-from twinlink.auth.devices import DeviceService
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthError, AuthService
 from twinlink.domain.errors import StorageFullError
 from twinlink.domain.records import Device, SearchRow, TwinWrite
 from twinlink.ingest.sessions import DeviceSession
+from twinlink.registry.devices import DeviceService
 from twinlink.registry.service import RegistryService
 from twinlink.store.sqlite import SqliteStore
 
@@ -175,7 +175,7 @@ async def test_a_token_check_that_fails_closes_the_connection(error: Exception, 
 
 
 def test_token_rechecks_are_spread_around_the_interval() -> None:
-    from twinlink.auth.devices import DeviceService
+    from twinlink.registry.devices import DeviceService
 
     service = DeviceService(store=None, registry=None, recheck_token_s=60.0)  # type: ignore[arg-type]
     delays = [service.recheck_delay() for _ in range(2000)]

@@ -14,6 +14,7 @@ from typing import Annotated, Any
 import pytest
 from pydantic import BaseModel, Field, Secret, SecretStr, ValidationError
 
+from twinlink.auth.vault import Vault
 from twinlink.connectors import kinds
 from twinlink.connectors.base import Connector
 from twinlink.connectors.udp.connector import UdpConnector
@@ -24,9 +25,8 @@ from twinlink.gateway.credentials import methods
 from twinlink.gateway.credentials.base import Credentials
 from twinlink.gateway.credentials.static import Basic
 from twinlink.gateway.exchange import GatewayProblem
-from twinlink.gateway.services import Service, ServiceBuilder
 from twinlink.gateway.spec import ServiceSettings
-from twinlink.gateway.vault import Vault
+from twinlink.gateway.table import Service, ServiceBuilder
 from twinlink.plugins import (
     BLUEPRINTS,
     CONNECTORS,

@@ -1,5 +1,5 @@
 // Writes src/api/openapi.ts, the API's types, from the server's description (/openapi.json)
-// with openapi-typescript. The description comes from `python -m twinlink.api.contract`,
+// with openapi-typescript. The description comes from `python -m twinlink.openapi`,
 // which builds the app without starting a server. With --check, nothing is written: the run
 // fails when the committed file differs (tests/integration/test_openapi_contract.py runs it).
 //   npm run api-types            (make ui-types)
@@ -15,7 +15,7 @@ const HEADER =
   "// Generated from the server's /openapi.json by ui/scripts/api-types.mjs (npm run api-types,\n" +
   "// make ui-types): do not edit. Convenient names for these types are in types.ts.\n\n";
 
-const description = execFileSync(python, ["-m", "twinlink.api.contract"], {
+const description = execFileSync(python, ["-m", "twinlink.openapi"], {
   encoding: "utf8",
   maxBuffer: 64 * 1024 * 1024,
 });

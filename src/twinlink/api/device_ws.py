@@ -14,7 +14,6 @@ from twinlink.api.devices import ThisDevice
 from twinlink.api.models.problem import problems
 from twinlink.api.models.system import BATCH_BODY, Ack
 from twinlink.api.responses import JSONAnswer
-from twinlink.auth.devices import DeviceService
 from twinlink.auth.service import AuthError
 from twinlink.domain.errors import DocumentTooLargeError, StorageError
 from twinlink.domain.jsontext import JsonTextError, fits_int64, loads
@@ -22,6 +21,7 @@ from twinlink.domain.samples import BatchError, big_int_outside_samples
 from twinlink.ingest.link import DeviceLink, connect_device, disconnect_device
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceSession
+from twinlink.registry.devices import DeviceService
 
 router = APIRouter(prefix="/api/v1", tags=["device"])
 log = logging.getLogger("twinlink.ingest")

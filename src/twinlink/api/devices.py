@@ -19,10 +19,10 @@ from twinlink.api.models.devices import (
 )
 from twinlink.api.models.problem import problems
 from twinlink.api.routing import ExactJsonRoute
-from twinlink.auth.devices import DEVICE_NAME, DeviceService
 from twinlink.auth.service import AuthError
 from twinlink.domain.records import Device
 from twinlink.registry.build import human_time, human_time_or_none
+from twinlink.registry.devices import DEVICE_NAME, DeviceService
 
 router = APIRouter(
     prefix="/api/v1",

@@ -27,7 +27,7 @@ from twinlink.domain.errors import ForbiddenError, InvalidInputError
 from twinlink.gateway import health
 from twinlink.gateway.accounts import ServiceAccounts
 from twinlink.gateway.service import GatewayService
-from twinlink.gateway.services import Service
+from twinlink.gateway.table import Service
 
 router = APIRouter(
     prefix="/api/v1",

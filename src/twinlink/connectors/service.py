@@ -13,9 +13,9 @@ import logging
 import time
 from typing import Any
 
-from twinlink.auth.devices import DeviceService
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal
+from twinlink.auth.vault import Vault, VaultError
 from twinlink.connectors.base import (
     Connector,
     ConnectorError,
@@ -33,11 +33,11 @@ from twinlink.connectors.kinds import (
 )
 from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.domain.records import ConnectorRecord, Device
-from twinlink.gateway.vault import Vault, VaultError
 from twinlink.ingest.link import DeviceLink
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.plugins import PluginUnavailable
+from twinlink.registry.devices import DeviceService
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
 

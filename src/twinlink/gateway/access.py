@@ -10,7 +10,7 @@ from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.gateway import paths
 from twinlink.gateway.exchange import GatewayProblem, Scope
 from twinlink.gateway.service import GatewayService
-from twinlink.gateway.services import Service
+from twinlink.gateway.table import Service
 
 
 async def caller_of(auth: AuthService, token: str | None) -> Principal:

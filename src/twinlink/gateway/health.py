@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from twinlink.gateway import paths, signin
 from twinlink.gateway.credentials.base import RefreshError
-from twinlink.gateway.services import Service
+from twinlink.gateway.table import Service
 from twinlink.gateway.upstream import UpstreamError, request_head
 
 if TYPE_CHECKING:

@@ -12,7 +12,7 @@ from prometheus_client.core import (
 )
 from prometheus_client.metrics_core import Metric
 
-from twinlink.gateway.services import BUCKETS
+from twinlink.gateway.table import BUCKETS
 
 if TYPE_CHECKING:
     from twinlink.gateway.service import GatewayService

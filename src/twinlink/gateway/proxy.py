@@ -26,8 +26,8 @@ from twinlink.gateway.exchange import (
 )
 from twinlink.gateway.sender import Sender
 from twinlink.gateway.service import GatewayService
-from twinlink.gateway.services import Service
 from twinlink.gateway.signin import renew, sign_in
+from twinlink.gateway.table import Service
 from twinlink.gateway.wsproxy import forward_websocket
 
 log = logging.getLogger("twinlink.gateway")

@@ -15,7 +15,7 @@ from twinlink.gateway.headers import (
     request_headers,
     response_headers,
 )
-from twinlink.gateway.services import Service
+from twinlink.gateway.table import Service
 from twinlink.gateway.upstream import Headers, Pool, UpstreamError, _Connection, request_head
 
 log = logging.getLogger("twinlink.gateway")

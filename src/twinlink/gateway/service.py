@@ -7,14 +7,14 @@ import time
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
+from twinlink.auth.vault import Vault
 from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.audit import AuditLog
 from twinlink.gateway.health import HealthLoop
-from twinlink.gateway.services import Service, ServiceBuilder
 from twinlink.gateway.spec import ServiceSettings, check_name, origin
+from twinlink.gateway.table import Service, ServiceBuilder
 from twinlink.gateway.upstream import Pool
-from twinlink.gateway.vault import Vault
 from twinlink.plugins import split_secrets
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore

@@ -13,7 +13,7 @@ from typing import Any
 
 from twinlink.gateway.credentials.base import Credentials, RefreshError, scrub
 from twinlink.gateway.exchange import GatewayProblem
-from twinlink.gateway.services import Service
+from twinlink.gateway.table import Service
 
 log = logging.getLogger("twinlink.gateway")
 

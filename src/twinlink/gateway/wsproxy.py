@@ -27,8 +27,8 @@ from twinlink.gateway.exchange import (
 )
 from twinlink.gateway.headers import request_headers
 from twinlink.gateway.service import GatewayService
-from twinlink.gateway.services import Service
 from twinlink.gateway.signin import renew, sign_in
+from twinlink.gateway.table import Service
 from twinlink.tasks import until_first_done
 
 _HANDSHAKE = frozenset(

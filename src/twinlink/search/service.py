@@ -6,7 +6,7 @@ import re
 from typing import Any
 
 from twinlink.auth.rights import Principal
-from twinlink.store.base import MetadataStore
+from twinlink.store.search import SearchStore
 
 _WORD = re.compile(r"\w+", re.UNICODE)
 MAX_TERMS = 8
@@ -20,7 +20,7 @@ def query_terms(text: str) -> list[str]:
 
 
 class SearchService:
-    def __init__(self, store: MetadataStore) -> None:
+    def __init__(self, store: SearchStore) -> None:
         self.store = store
 
     async def search(

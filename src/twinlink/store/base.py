@@ -17,16 +17,16 @@ from twinlink.domain.records import (
     FmuRecord,
     ProcessorEvent,
     ProcessorRecord,
-    SearchResult,
     ServiceRecord,
     TwinRecord,
     TwinWrite,
     User,
     Visibility,
 )
+from twinlink.store.search import SearchStore
 
 
-class MetadataStore(Protocol):
+class MetadataStore(SearchStore, Protocol):
     async def open(self) -> None: ...
     async def close(self) -> None: ...
     async def ping(self) -> bool: ...
@@ -106,18 +106,6 @@ class MetadataStore(Protocol):
     async def set_device_token(self, device_id: int, token_hash: bytes, prefix: str) -> None: ...
     async def touch_devices(self, times: Mapping[int, int]) -> None: ...
     async def delete_device(self, device_id: int) -> None: ...
-
-    # search
-    async def search(
-        self,
-        vis: Visibility,
-        terms: list[str],
-        *,
-        keyword: str | None,
-        limit: int,
-        offset: int,
-        facet_limit: int = 25,
-    ) -> SearchResult: ...
 
     # connectors
     async def create_connector(

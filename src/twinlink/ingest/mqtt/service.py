@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from typing import Any, Protocol
 
-from twinlink.auth.devices import DeviceService
 from twinlink.config import Settings
 from twinlink.ingest.mqtt.external import ExternalBroker
 from twinlink.ingest.mqtt.listener import EmbeddedListener
@@ -18,6 +17,7 @@ from twinlink.ingest.mqtt.status import MqttStatus
 from twinlink.ingest.mqtt.topics import TopicScheme
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
+from twinlink.registry.devices import DeviceService
 
 
 class _Mode(Protocol):

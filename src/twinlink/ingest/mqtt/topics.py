@@ -11,8 +11,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from twinlink.auth.devices import DEVICE_NAME
 from twinlink.domain.slug import SLUG
+from twinlink.registry.devices import DEVICE_NAME
 
 STREAM = re.compile(r"^[a-z][a-z0-9_-]{0,63}$")
 COMMAND_ID = re.compile(r"^[A-Za-z0-9_-]{1,64}$")

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import urlsplit
 
+from twinlink.auth.vault import Vault, VaultError
 from twinlink.domain.merge import merge_parts
 from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.credentials.base import Credentials
@@ -23,7 +24,6 @@ from twinlink.gateway.spec import (
     service_name,
 )
 from twinlink.gateway.upstream import Origin
-from twinlink.gateway.vault import Vault, VaultError
 from twinlink.plugins import split_secrets
 from twinlink.store.base import MetadataStore
 
