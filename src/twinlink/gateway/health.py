@@ -6,21 +6,27 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from twinlink.gateway import paths, signin
 from twinlink.gateway.credentials.base import RefreshError
 from twinlink.gateway.table import Service
-from twinlink.gateway.upstream import UpstreamError, request_head
-
-if TYPE_CHECKING:
-    from twinlink.gateway.service import GatewayService
+from twinlink.gateway.upstream import Pool, UpstreamError, request_head
 
 INTERVAL_S = 30.0
 CHECK_TIMEOUT_S = 5.0
 
 
-async def check(gateway: GatewayService, service: Service) -> dict[str, Any]:
+class Gateway(Protocol):
+    """What the checks use of the gateway's service (service.py, which starts the loop): a
+    protocol, so this module does not import the one that imports it."""
+
+    pool: Pool
+
+    def cached(self) -> list[tuple[int, dict[str, Service]]]: ...
+
+
+async def check(gateway: Gateway, service: Service) -> dict[str, Any]:
     """Check `service` now; the result is also kept for the list and /metrics."""
     started = time.perf_counter()
     result: dict[str, Any] = {"checked_at": time.time(), "path": service.settings.health_path}
@@ -36,7 +42,7 @@ async def check(gateway: GatewayService, service: Service) -> dict[str, Any]:
     return result
 
 
-async def _probe(gateway: GatewayService, service: Service) -> int:
+async def _probe(gateway: Gateway, service: Service) -> int:
     if service.blocked or service.origin is None:
         raise UpstreamError("connect", service.blocked or "no address")
     rest = (service.settings.health_path or "").lstrip("/").encode()
@@ -61,7 +67,7 @@ async def _probe(gateway: GatewayService, service: Service) -> int:
 
 
 class HealthLoop:
-    def __init__(self, gateway: GatewayService) -> None:
+    def __init__(self, gateway: Gateway) -> None:
         self.gateway = gateway
         self._task: asyncio.Task[None] | None = None
 

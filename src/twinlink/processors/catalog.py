@@ -13,19 +13,17 @@ A blueprint is named by a reference (`ref`) that a worker process can load on it
 
 from __future__ import annotations
 
-import hashlib
 import importlib
-import importlib.util
 import inspect
 import logging
-import sys
 from dataclasses import dataclass
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 from twinlink.plugins import BLUEPRINTS, registered
 from twinlink.processors.blueprint import Blueprint, describe_blueprint
+from twinlink.processors.blueprints.tvilling import tvilling_blueprint
+from twinlink.processors.fileimport import load_module
 
 log = logging.getLogger("twinlink.processors")
 GROUP = BLUEPRINTS
@@ -67,8 +65,6 @@ def load_ref(ref: dict[str, str]) -> BlueprintClass:
     else:
         module = load_module(Path(ref["path"]))
         if "tvilling" in ref:
-            from twinlink.processors.blueprints.tvilling import tvilling_blueprint
-
             cls = tvilling_blueprint(ref["tvilling"], module.P)
         else:
             cls = getattr(module, ref["class"])
@@ -123,25 +119,3 @@ def _module_entries(path: Path) -> list[Entry]:
         ref = {"path": str(path.resolve()), "tvilling": path.stem}
         entries.append(Entry(path.stem, ref, "folder", _cls=load_ref(ref)))
     return entries
-
-
-def load_module(path: Path) -> ModuleType:
-    """Import a `.py` file or a package folder by its path (once; the same module after)."""
-    init = path / "__init__.py" if path.is_dir() else path
-    digest = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:12]
-    name = f"twinlink_blueprint_{path.stem}_{digest}"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(
-        name, init, submodule_search_locations=[str(path)] if path.is_dir() else None
-    )
-    if spec is None or spec.loader is None:
-        raise ImportError(f"cannot load {path}")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    try:
-        spec.loader.exec_module(module)
-    except BaseException:
-        del sys.modules[name]
-        raise
-    return module

@@ -12,7 +12,7 @@ import logging
 import secrets
 import time
 from collections.abc import Iterable
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from twinlink.auth.service import AuthError
 from twinlink.domain.records import Device
@@ -29,10 +29,16 @@ from twinlink.ingest.mqtt._wire import (
     MalformedPacket,
 )
 from twinlink.ingest.mqtt.bridge import DeviceBridge, Receipt
-from twinlink.ingest.mqtt.topics import DeviceTopics, Route, TopicError, matches, valid_filter
-
-if TYPE_CHECKING:
-    from twinlink.ingest.mqtt.listener import EmbeddedListener
+from twinlink.ingest.mqtt.platform import Platform
+from twinlink.ingest.mqtt.status import MqttStatus
+from twinlink.ingest.mqtt.topics import (
+    DeviceTopics,
+    Route,
+    TopicError,
+    TopicScheme,
+    matches,
+    valid_filter,
+)
 
 log = logging.getLogger("twinlink.mqtt")
 
@@ -43,9 +49,23 @@ MAX_ROUTES = 64  # topics remembered per connection
 _CLOSE_REASONS = {4409: mq.SESSION_TAKEN_OVER, 4401: mq.NOT_AUTHORIZED}
 
 
+class Listener(Protocol):
+    """What a connection uses of the listener that accepted it (listener.py): a protocol, so
+    this module does not import the one that imports it."""
+
+    platform: Platform
+    scheme: TopicScheme
+    status: MqttStatus
+    max_packet_bytes: int
+
+    def register(self, connection: DeviceConnection) -> None: ...
+
+    def unregister(self, connection: DeviceConnection) -> None: ...
+
+
 class DeviceConnection:
     def __init__(
-        self, listener: EmbeddedListener, reader: asyncio.StreamReader, writer: asyncio.StreamWriter
+        self, listener: Listener, reader: asyncio.StreamReader, writer: asyncio.StreamWriter
     ) -> None:
         self.listener = listener
         self.status = listener.status

@@ -26,6 +26,7 @@ import numpy as np
 from pydantic import BaseModel, Field, TypeAdapter, create_model
 
 from twinlink.processors.blueprint import Batch, Blueprint, BlueprintError, Context, Params
+from twinlink.processors.fileimport import load_module
 
 RESERVED = ("start_params", "outputs")
 
@@ -241,8 +242,6 @@ def tvilling_blueprint(name: str, p_class: type) -> type[Blueprint[Any]]:
 
 def load_tvilling(path: Path, name: str | None = None) -> type[Blueprint[Any]]:
     """Loads a Tvilling digital blueprint (a folder with `__init__.py`, or a `.py` file)."""
-    from twinlink.processors.catalog import load_module
-
     folder = path.is_dir()
     name = name or (path.name if folder else path.stem)
     if not (path / "__init__.py" if folder else path).is_file():
