@@ -3,7 +3,9 @@
 - A test leaves nothing running (as Home Assistant's `verify_cleanup`): no task of its asyncio
   event loop, no thread, no child process that was not there before it. What a module-scoped
   fixture starts (a server shared by the module's tests) belongs to the module: it is checked
-  the same way once the module's fixtures are torn down. A leak fails the test (an error at its
+  the same way once the module's fixtures are torn down. So does what such a process starts
+  while a test runs (the server's processor workers): a process is the test's only when no
+  process that ran before the test is its ancestor. A leak fails the test (an error at its
   teardown) naming what was left, and is then cleaned up where it can be (tasks cancelled,
   processes killed), so the next test starts clean. What ends on its own within
   `cleanup_settle_s` (a server's handler finishing its close) is not a leak.
@@ -22,7 +24,7 @@ import sys
 import threading
 import time
 import weakref
-from collections.abc import Generator, Iterator
+from collections.abc import Generator, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -59,7 +61,7 @@ class Running:
     """What runs in this process at one moment: threads, child processes, a loop's tasks."""
 
     threads: frozenset[threading.Thread]
-    children: frozenset[int]
+    children: Mapping[int, int]  # this process's descendants: pid -> its parent's pid
     tasks: frozenset[asyncio.Task[Any]]
 
     @classmethod
@@ -68,12 +70,13 @@ class Running:
         return cls(frozenset(threading.enumerate()), child_pids(), frozenset(tasks))
 
 
-def child_pids() -> frozenset[int]:
-    """This process's children and theirs. Read from /proc/PID/task/TID/children: psutil's
-    `children()` reads every process of the machine (2 ms, twice a test)."""
+def child_pids() -> dict[int, int]:
+    """This process's children and theirs, each with its parent's pid. Read from
+    /proc/PID/task/TID/children: psutil's `children()` reads every process of the machine
+    (2 ms, twice a test)."""
     if not Path("/proc/self/task").is_dir():
-        return frozenset(p.pid for p in psutil.Process().children(recursive=True))
-    found: set[int] = set()
+        return _child_pids_by_psutil()
+    found: dict[int, int] = {}
     parents = [os.getpid()]
     while parents:
         parent = parents.pop()
@@ -84,12 +87,36 @@ def child_pids() -> frozenset[int]:
         for tid in tids:
             try:
                 with open(f"/proc/{parent}/task/{tid}/children") as f:
-                    children = {int(pid) for pid in f.read().split()} - found
+                    children = [pid for pid in map(int, f.read().split()) if pid not in found]
             except OSError:
                 continue
-            found |= children
+            found.update(dict.fromkeys(children, parent))
             parents.extend(children)
-    return frozenset(found)
+    return found
+
+
+def _child_pids_by_psutil() -> dict[int, int]:
+    found: dict[int, int] = {}
+    for process in psutil.Process().children(recursive=True):
+        with contextlib.suppress(psutil.Error):
+            found[process.pid] = process.ppid()
+    return found
+
+
+def started_since(before: Mapping[int, int], now: Mapping[int, int]) -> list[int]:
+    """The processes of `now` that were started since `before` by this process itself, or by
+    one it started since: a process that ran before (a module's server) owns what it starts
+    meanwhile (its workers), however deep, and its fixture answers for them."""
+    mine: list[int] = []
+    for pid in now.keys() - before.keys():
+        parent, hops = now[pid], 0
+        # up the tree to this process (not in `now`) or to one that ran before; the hops bound
+        # the walk should a reused pid ever make a loop of what was read
+        while parent in now and parent not in before and hops < len(now):
+            parent, hops = now[parent], hops + 1
+        if parent not in before:
+            mine.append(pid)
+    return mine
 
 
 # -- leaks -------------------------------------------------------------------------------------
@@ -146,8 +173,8 @@ def _leaked_threads(
     return [f"thread {thread!r}" for thread in left]
 
 
-def _leaked_children(before: frozenset[int], deadline: float) -> list[str]:
-    new = [p for pid in child_pids() - before if (p := _process(pid)) is not None]
+def _leaked_children(before: Mapping[int, int], deadline: float) -> list[str]:
+    new = [p for pid in started_since(before, child_pids()) if (p := _process(pid)) is not None]
     while (alive := [p for p in new if _alive(p)]) and time.monotonic() < deadline:
         time.sleep(0.05)  # polling the processes' real state
     described = [f"child process {_describe(p)}" for p in alive]
@@ -187,7 +214,8 @@ def _describe(process: psutil.Process) -> str:
         command = " ".join(process.cmdline()) or process.name()
     except psutil.Error:
         command = "?"
-    return f"{process.pid} ({command[:200]})"
+    # on one line (`python -c` with a script of several), so the message stays one line
+    return f"{process.pid} ({' '.join(command.split())[:200]})"
 
 
 def _fail_on(found: list[str], who: str) -> None:

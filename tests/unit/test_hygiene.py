@@ -96,6 +96,56 @@ def test_uses_it(forgetful):
     pass
 """
 
+# A module's process (a server's stand-in) starts a child of its own for each line it reads
+# (a worker) and stops them at its end; the test starts one too and leaves it.
+SPAWNS = """
+import os, subprocess, sys
+from pathlib import Path
+import pytest
+
+SPAWNER = '''
+import subprocess, sys
+kids = []
+for line in sys.stdin:
+    kids.append(subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"]))
+    print(kids[-1].pid, flush=True)
+for kid in kids:
+    kid.kill()
+    kid.wait()
+'''
+KEPT = []
+
+def start_spawner():
+    return subprocess.Popen([sys.executable, "-c", SPAWNER], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, text=True)
+
+def spawn(spawner):
+    spawner.stdin.write("\\n")
+    spawner.stdin.flush()
+    return int(spawner.stdout.readline())
+
+def note(name, pid):
+    (Path(os.environ["PID_DIR"]) / f"{name}.pid").write_text(str(pid))
+
+@pytest.fixture(scope="module")
+def spawner():
+    spawner = start_spawner()
+    yield spawner
+    spawner.stdin.close()  # it stops its children and ends
+    spawner.wait(timeout=60)
+    spawner.stdout.close()
+
+def test_what_a_modules_process_starts_is_its_own(spawner):
+    note("worker", spawn(spawner))
+
+def test_what_the_test_starts_is_the_tests_beside_them(spawner):
+    note("other-worker", spawn(spawner))
+    own = start_spawner()
+    KEPT.append(own)
+    note("own", own.pid)
+    note("own-child", spawn(own))
+"""
+
 BUILDS = """
 import subprocess
 import pytest
@@ -139,6 +189,7 @@ TREE = {
     "tests/unit/test_leaks.py": LEAKS,
     "tests/unit/test_module_owned.py": MODULE_OWNED,
     "tests/unit/test_module_leak.py": MODULE_LEAK,
+    "tests/unit/test_spawns.py": SPAWNS,
     "tests/unit/test_builds.py": BUILDS,
     "tests/integration/test_marked.py": MARKED,
     "tests/integration/test_unmarked.py": "def test_unmarked():\n    pass\n",
@@ -150,6 +201,7 @@ class Outcome:
     output: pytest.LineMatcher
     counts: dict[str, int]
     child_pid: int
+    pids: dict[str, int]  # test_spawns.py's processes, by the name it gave them
 
 
 @pytest.fixture(scope="module")
@@ -160,7 +212,10 @@ def outcome(tmp_path_factory: pytest.TempPathFactory) -> Outcome:
         (tree / name).parent.mkdir(parents=True, exist_ok=True)
         (tree / name).write_text(textwrap.dedent(text))
     pid_file = tree / "child.pid"
-    env = {**os.environ, "PYTHONPATH": str(ROOT), "CHILD_PID_FILE": str(pid_file)}
+    pid_dir = tree / "pids"
+    pid_dir.mkdir()
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "CHILD_PID_FILE": str(pid_file),
+           "PID_DIR": str(pid_dir)}  # fmt: skip
     env.pop("PYTEST_ADDOPTS", None)
     done = subprocess.run(
         [sys.executable, "-m", "pytest", "-p", "tests._hygiene", "-p", "no:cacheprovider", "-rA"],
@@ -168,7 +223,8 @@ def outcome(tmp_path_factory: pytest.TempPathFactory) -> Outcome:
     )  # fmt: skip
     lines = done.stdout.splitlines()
     counts = {kind: int(n) for n, kind in re.findall(r"(\d+) (\w+)", lines[-1])}
-    return Outcome(pytest.LineMatcher(lines), counts, int(pid_file.read_text()))
+    pids = {path.stem: int(path.read_text()) for path in pid_dir.glob("*.pid")}
+    return Outcome(pytest.LineMatcher(lines), counts, int(pid_file.read_text()), pids)
 
 
 def _still_running(pid: int) -> bool:
@@ -198,10 +254,36 @@ def test_leaks_fail_their_test_and_are_cleaned_up(outcome: Outcome) -> None:
     finally:
         if _still_running(pid):
             psutil.Process(pid).kill()
-    # errors: 3 tests' leaks and a module's, fmu_files in a unit test, a unit test marked
+    # errors: 4 tests' leaks and a module's, fmu_files in a unit test, a unit test marked
     # integration, the unmarked integration module; failed: the unit test that runs gcc
     # (a test with an error at its teardown counts as passed too)
-    assert outcome.counts == {"passed": 10, "failed": 1, "errors": 7}, outcome.counts
+    assert outcome.counts == {"passed": 12, "failed": 1, "errors": 8}, outcome.counts
+
+
+def test_a_process_the_test_starts_is_its_own_and_what_it_starts_too(outcome: Outcome) -> None:
+    own, own_child = outcome.pids["own"], outcome.pids["own-child"]
+    outcome.output.fnmatch_lines_random(
+        [
+            "*ERROR at teardown of test_what_the_test_starts_is_the_tests_beside_them*",
+            f"*the test left running: *child process {own} (*",
+            f"*the test left running: *child process {own_child} (*time.sleep(600)*",
+        ]
+    )
+    assert not _still_running(own_child)
+
+
+def test_what_a_process_that_ran_before_the_test_starts_is_not_the_tests(
+    outcome: Outcome,
+) -> None:
+    """A module's server starts processor workers while a test runs: they are the server's."""
+    outcome.output.fnmatch_lines(
+        ["PASSED tests/unit/test_spawns.py::test_what_a_modules_process_starts_is_its_own"]
+    )
+    outcome.output.no_fnmatch_line("ERROR tests/unit/test_spawns.py::test_what_a_modules_*")
+    for worker in (outcome.pids["worker"], outcome.pids["other-worker"]):
+        outcome.output.no_fnmatch_line(f"*child process {worker} (*")
+    # the module's process stopped them, so its fixtures left nothing either
+    outcome.output.no_fnmatch_line("*the fixtures of test_spawns.py left running*")
 
 
 def test_what_ends_or_is_stopped_and_what_a_module_owns_pass(outcome: Outcome) -> None:
