@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import gc
 import logging
-from collections.abc import AsyncIterator, Callable
-from contextlib import asynccontextmanager
+from collections.abc import AsyncIterator, Awaitable, Callable
+from contextlib import AbstractAsyncContextManager, asynccontextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -59,6 +59,7 @@ from twinlink.registry.service import RegistryService
 from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
 from twinlink.store.commands import CommandStore, PropertyStore
+from twinlink.store.history import HistoryStore
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite.commands import SqliteCommands
 from twinlink.store.sqlite.faults import StorageFaults
@@ -75,6 +76,51 @@ log = logging.getLogger("twinlink.app")
 GC_THRESHOLDS = (10_000, 10, 100)
 
 
+@dataclass(frozen=True, slots=True)
+class Storage:
+    """The stores in use, each behind its protocol (store/). Picking their implementation is
+    this module's alone: SQLite files in the data dir today, PostgreSQL next to it later."""
+
+    metadata: MetadataStore
+    history: HistoryStore
+    commands: CommandStore
+    properties: PropertyStore
+    # The backend's own counters for /metrics: group commits, writes failed by kind.
+    figures: Callable[[], dict[str, int]]
+
+
+def sqlite_storage(settings: Settings) -> Storage:
+    """The embedded stores: metadata.db and history.db in the data dir (the command log and
+    properties share history.db's writer and its commits)."""
+    faults = StorageFaults()  # disk failures of both files, counted for /metrics
+    history = SqliteHistory(
+        settings.data_dir,
+        settings.history_sync,
+        max_signals_per_stream=settings.max_signals_per_stream,
+        faults=faults,
+        limits=ReadLimits(
+            timeout_s=settings.history_query_timeout_s,
+            export_timeout_s=settings.history_export_timeout_s,
+            max_values=settings.history_query_max_values,
+        ),
+    )
+
+    def figures() -> dict[str, int]:
+        return {
+            "history_commits": history.writer.commits,
+            "storage_full": faults.counts["full"],
+            "storage_io_errors": faults.counts["io"],
+        }
+
+    return Storage(
+        metadata=SqliteStore(settings.data_dir, faults),
+        history=history,
+        commands=SqliteCommands(history),
+        properties=SqliteProperties(history),
+        figures=figures,
+    )
+
+
 @dataclass(slots=True)
 class Services:
     store: MetadataStore
@@ -83,9 +129,10 @@ class Services:
     search: SearchService
     devices: DeviceService
     bus: Bus
-    history: SqliteHistory  # concrete: /metrics reads its writer's figures
+    history: HistoryStore
     command_store: CommandStore
     property_store: PropertyStore
+    storage_figures: Callable[[], dict[str, int]]
     ingest: IngestService
     device_hub: DeviceHub
     commands: CommandService
@@ -101,27 +148,15 @@ class Services:
 
 
 def build_services(settings: Settings) -> Services:
-    faults = StorageFaults()  # disk failures of both files, counted for /metrics
-    store: MetadataStore = SqliteStore(settings.data_dir, faults)
+    storage = sqlite_storage(settings)
+    store, history = storage.metadata, storage.history
     registry = RegistryService(store, settings.base_url)
     bus = MemoryBus()
-    history = SqliteHistory(
-        settings.data_dir,
-        settings.history_sync,
-        max_signals_per_stream=settings.max_signals_per_stream,
-        faults=faults,
-        limits=ReadLimits(
-            timeout_s=settings.history_query_timeout_s,
-            export_timeout_s=settings.history_export_timeout_s,
-            max_values=settings.history_query_max_values,
-        ),
-    )
     hub = DeviceHub()
     maintenance = HistoryMaintenance(history, settings.history_retention_days)
     registry.deleted_listeners.append(maintenance.twins_deleted)
     ingest = IngestService(registry, history, bus)
-    command_store, property_store = SqliteCommands(history), SqliteProperties(history)
-    commands = CommandService(registry, command_store, hub, settings.command_timeout_s)
+    commands = CommandService(registry, storage.commands, hub, settings.command_timeout_s)
     secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
     vault = Vault.open(settings.data_dir, secret_key)
     gateway = GatewayService(
@@ -137,12 +172,13 @@ def build_services(settings: Settings) -> Services:
         devices=devices,
         bus=bus,
         history=history,
-        command_store=command_store,
-        property_store=property_store,
+        command_store=storage.commands,
+        property_store=storage.properties,
+        storage_figures=storage.figures,
         ingest=ingest,
         device_hub=hub,
         commands=commands,
-        properties=PropertyService(registry, property_store, hub),
+        properties=PropertyService(registry, storage.properties, hub),
         live=LiveHub(bus),
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,
@@ -170,33 +206,61 @@ def data_plane_figures(services: Services) -> dict[str, Any]:
         "samples_accepted": services.ingest.samples_accepted,
         "samples_rejected": services.ingest.samples_rejected,
         "batches_duplicate": services.ingest.batches_duplicate,
-        "history_commits": services.history.writer.commits,
-        "storage_full": services.history.writer.faults.counts["full"],
-        "storage_io_errors": services.history.writer.faults.counts["io"],
+        **services.storage_figures(),
         "outputs_not_stored": services.ingest.outputs_not_stored,
         "devices_connected": len(services.device_hub.sessions),
     }
 
 
 async def start_services(services: Services, settings: Settings) -> Bootstrap | None:
-    """Open the stores and start the background work; the first admin if one was made."""
-    await services.store.open()
-    services.auth.last_used.start()
-    await services.history.open()
-    await services.command_store.open()
-    await services.property_store.open()
-    await services.commands.open()
-    await services.bus.start()
-    await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
-    services.history_maintenance.start()
-    await services.processors.open()
-    await services.gateway.open()
-    await services.connectors.open()
-    await services.mqtt.open()
-    return await services.auth.bootstrap(
-        settings.admin_token.get_secret_value() if settings.admin_token else None,
-        settings.admin_password.get_secret_value() if settings.admin_password else None,
-    )
+    """Open the stores and start the background work; the first admin if one was made. When a
+    step fails (a broker that refuses, a port in use), what the steps before it started is
+    stopped, in reverse order, and its error raised: a failed start leaves nothing running
+    (a step that fails stops what it started itself)."""
+    started: list[Callable[[], Awaitable[object]]] = []  # how to stop each, in start order
+    try:
+        await services.store.open()
+        started.append(services.store.close)
+        services.auth.last_used.start()
+        started.append(services.auth.last_used.close)
+        await services.history.open()
+        started.append(services.history.close)
+        await services.command_store.open()
+        started.append(services.command_store.close)
+        await services.property_store.open()
+        started.append(services.property_store.close)
+        await services.commands.open()
+        started += [services.commands.close, services.properties.close]
+        await services.bus.start()
+        started.append(services.bus.stop)
+        await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
+        services.history_maintenance.start()
+        started.append(services.history_maintenance.stop)
+        await services.processors.open()
+        started.append(services.processors.close)
+        await services.gateway.open()
+        started.append(services.gateway.close)
+        await services.connectors.open()
+        started.append(services.connectors.close)
+        await services.mqtt.open()
+        started.append(services.mqtt.close)
+        return await services.auth.bootstrap(
+            settings.admin_token.get_secret_value() if settings.admin_token else None,
+            settings.admin_password.get_secret_value() if settings.admin_password else None,
+        )
+    except BaseException:
+        await _stop_started(started)
+        raise
+
+
+async def _stop_started(started: list[Callable[[], Awaitable[object]]]) -> None:
+    """Stop what a failed start started, last first. An error stopping one is logged, not
+    raised: the error to see is the one that failed the start, raised after this."""
+    for stop in reversed(started):
+        try:
+            await stop()
+        except Exception:
+            log.exception("stopping after a failed start", extra={"event": "start_undo_failed"})
 
 
 async def stop_services(services: Services) -> None:
@@ -223,12 +287,51 @@ def create_app(
     on_ready: Callable[[Services], object] | None = None,
 ) -> FastAPI:
     services = build_services(settings)
+    metrics = _metrics(services)
+    app = FastAPI(
+        title="twinlink",
+        version=__version__,
+        description="An open-source digital twin platform: DT documents, a twin registry with "
+        "search, live data, processors and an API gateway (the Data Link). "
+        "Every endpoint needs `Authorization: Bearer <token>` except /healthz, login and "
+        "public DT documents.",
+        lifespan=_lifespan(services, settings, on_bootstrap, on_ready),
+        docs_url=None,
+        redoc_url=None,
+        openapi_url=None,  # served by api.apidocs, behind a token
+    )
+    app.state.settings = settings
+    app.state.services = services
+    app.state.metrics = metrics
+    problems.install(app)
+    routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
+    routers_more = (processors, gateway_api, connectors_api, mqtt_api)
+    for module in (*routers, *routers_more, search, pages, app_ui):
+        app.include_router(module.router)
+    apidocs.install(app)
+    app.add_middleware(MetricsMiddleware, metrics=metrics)
+    return app
+
+
+def _metrics(services: Services) -> Metrics:
+    """/metrics: the HTTP figures, and what each part counts itself, read at scrape time."""
     metrics = Metrics()
     metrics.registry.register(DataPlaneCollector(lambda: data_plane_figures(services)))
     metrics.registry.register(ProcessorCollector(services.processors))
     metrics.registry.register(ConnectorCollector(services.connectors))
     metrics.registry.register(MqttCollector(services.mqtt))
     metrics.registry.register(GatewayCollector(services.gateway))
+    return metrics
+
+
+def _lifespan(
+    services: Services,
+    settings: Settings,
+    on_bootstrap: Callable[[Bootstrap], None] | None,
+    on_ready: Callable[[Services], object] | None,
+) -> Callable[[FastAPI], AbstractAsyncContextManager[None]]:
+    """The app's life: the services start before the first request and stop after the last;
+    `on_ready` runs in between (the demo starts its devices there)."""
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -256,29 +359,7 @@ def create_app(
                 await cleanup()
             await stop_services(services)
 
-    app = FastAPI(
-        title="twinlink",
-        version=__version__,
-        description="An open-source digital twin platform: DT documents, a twin registry with "
-        "search, live data, processors and an API gateway (the Data Link). "
-        "Every endpoint needs `Authorization: Bearer <token>` except /healthz, login and "
-        "public DT documents.",
-        lifespan=lifespan,
-        docs_url=None,
-        redoc_url=None,
-        openapi_url=None,  # served by api.apidocs, behind a token
-    )
-    app.state.settings = settings
-    app.state.services = services
-    app.state.metrics = metrics
-    problems.install(app)
-    routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors, gateway_api, connectors_api, mqtt_api)
-    for module in (*routers, *routers_more, search, pages, app_ui):
-        app.include_router(module.router)
-    apidocs.install(app)
-    app.add_middleware(MetricsMiddleware, metrics=metrics)
-    return app
+    return lifespan
 
 
 def outermost(app: FastAPI) -> GatewayApp:

@@ -9,6 +9,7 @@ import sys
 from collections.abc import Awaitable, Callable
 
 import uvicorn
+from fastapi import FastAPI
 
 from twinlink.app import Services, create_app, outermost
 from twinlink.auth.service import Bootstrap
@@ -64,12 +65,10 @@ def mqtt_port_free(settings: Settings) -> bool:
     return True
 
 
-def serve(
-    settings: Settings,
-    on_ready: Callable[[Services], object] | None = None,
-    on_bootstrap: Callable[[Bootstrap], None] = print_bootstrap,
-) -> None:
-    setup_logging(settings.log_level, settings.log_format)
+def listen(settings: Settings) -> socket.socket:
+    """The server's listening socket, bound and listening before startup, so a client that
+    saw "serving at" is queued, never refused; a port that is taken is a ConfigError that
+    says what to change (the MQTT listener's too, before anything has started)."""
     family = socket.AF_INET6 if ":" in settings.host else socket.AF_INET
     # Naming IPPROTO_TCP matters: asyncio sets TCP_NODELAY on accepted connections only when
     # the listening socket says it is TCP; without it Nagle's algorithm and delayed ACKs add
@@ -91,11 +90,19 @@ def serve(
             "in use (another broker?); set TWINLINK_MQTT_PORT (0 = any free port), or "
             "TWINLINK_MQTT_MODE=external to use that broker, or off"
         )
-    # Listen before startup so a client that saw "serving at" is queued, never refused.
     sock.listen(2048)
     if settings.port == 0:
         settings.port = sock.getsockname()[1]
+    return sock
 
+
+def serve(
+    settings: Settings,
+    on_ready: Callable[[Services], object] | None = None,
+    on_bootstrap: Callable[[Bootstrap], None] = print_bootstrap,
+) -> None:
+    setup_logging(settings.log_level, settings.log_format)
+    sock = listen(settings)
     cleanups: list[Cleanup] = []
 
     async def ready(services: Services) -> None:
@@ -109,7 +116,15 @@ def serve(
         print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
 
     app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
-    config = uvicorn.Config(
+    # uvicorn raises the SIGINT it stopped for again once it has stopped cleanly; ending here
+    # keeps click from printing "Aborted!" after a clean stop.
+    with contextlib.suppress(KeyboardInterrupt):
+        # Server.run picks the event loop (uvloop when installed, as with uvicorn[standard]).
+        _Server(_uvicorn_config(app, settings), cleanups).run(sockets=[sock])
+
+
+def _uvicorn_config(app: FastAPI, settings: Settings) -> uvicorn.Config:
+    return uvicorn.Config(
         outermost(app),
         log_level=settings.log_level,
         log_config=None,  # setup_logging has configured uvicorn's loggers
@@ -125,8 +140,3 @@ def serve(
         # would otherwise hold the shutdown until it ends); the stop then takes seconds.
         timeout_graceful_shutdown=5,
     )
-    # uvicorn raises the SIGINT it stopped for again once it has stopped cleanly; ending here
-    # keeps click from printing "Aborted!" after a clean stop.
-    with contextlib.suppress(KeyboardInterrupt):
-        # Server.run picks the event loop (uvloop when installed, as with uvicorn[standard]).
-        _Server(config, cleanups).run(sockets=[sock])

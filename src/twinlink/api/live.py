@@ -13,7 +13,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from typing import Any, Protocol
+from typing import Any
 
 from fastapi import APIRouter, WebSocket
 from starlette.websockets import WebSocketDisconnect
@@ -25,6 +25,7 @@ from twinlink.live import protocol
 from twinlink.live.outbox import Outbox
 from twinlink.live.protocol import ClientError
 from twinlink.live.session import Authenticator, LatestReader, LiveSession
+from twinlink.store.history import HistoryReadStore
 from twinlink.tasks import until_first_done
 
 router = APIRouter(prefix="/api/v1", tags=["live"])
@@ -166,13 +167,7 @@ async def _close(websocket: WebSocket, code: int, reason: str) -> None:
         await asyncio.wait_for(websocket.close(code, reason), CLOSE_TIMEOUT_S)
 
 
-class _LatestStore(Protocol):
-    async def latest(
-        self, twin_id: int, stream: str, signals: list[str] | None
-    ) -> dict[str, dict[str, Any]]: ...
-
-
-def _latest_reader(history: _LatestStore) -> LatestReader:
+def _latest_reader(history: HistoryReadStore) -> LatestReader:
     """The newest stored value of each subscribed signal, `{signal: {time, value}}`. A stream
     or signal with no history yet is no error here: its data may be about to arrive."""
 
