@@ -1,0 +1,91 @@
+"""A start that fails part way stops what the steps before it started: here the embedded MQTT
+listener's port is taken, one of the last steps, after the stores, the history writer, the
+gateway and the processors have started. No task or thread of the platform is left running,
+and the error raised is the start's, even when stopping one of the others fails too."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import socket
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from twinlink.app import Services, build_services, start_services, stop_services
+from twinlink.config import Settings
+from twinlink.ingest.mqtt.listener import ListenerError
+
+pytestmark = pytest.mark.integration
+
+# The workers of the loop's default executor (asyncio.to_thread) live as long as the loop.
+EXECUTOR_THREAD = "asyncio_"
+
+
+@pytest.fixture
+def taken_port() -> Iterator[int]:
+    """A loopback port another socket listens on."""
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        sock.listen()
+        yield int(sock.getsockname()[1])
+
+
+def platform(data_dir: Path, mqtt_port: int) -> tuple[Services, Settings]:
+    settings = Settings(data_dir=data_dir, mqtt_host="127.0.0.1", mqtt_port=mqtt_port)
+    return build_services(settings), settings
+
+
+def running() -> tuple[set[asyncio.Task[Any]], set[threading.Thread]]:
+    """This loop's other tasks and this process's threads but the executor's."""
+    tasks = asyncio.all_tasks() - {asyncio.current_task()}
+    threads = {t for t in threading.enumerate() if not t.name.startswith(EXECUTOR_THREAD)}
+    return tasks, threads
+
+
+async def test_a_failed_start_leaves_nothing_running(tmp_path: Path, taken_port: int) -> None:
+    # what a start that succeeds runs, so that the check below cannot pass for want of it
+    services, settings = platform(tmp_path / "good", 0)
+    before_tasks, before_threads = running()
+    await start_services(services, settings)
+    try:
+        tasks, _ = running()
+        names = {task.get_name() for task in tasks - before_tasks}
+        assert {"history-writer", "last-used-writer", "gateway-health"} <= names, names
+    finally:
+        await stop_services(services)
+
+    services, settings = platform(tmp_path / "bad", taken_port)
+    with pytest.raises(ListenerError, match=f"cannot listen on 127.0.0.1:{taken_port}"):
+        await start_services(services, settings)
+    tasks, threads = running()
+    assert tasks - before_tasks == set()
+    assert threads - before_threads == set()
+
+
+async def test_the_starts_error_is_raised_when_stopping_another_fails(
+    tmp_path: Path,
+    taken_port: int,
+    caplog: pytest.LogCaptureFixture,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    services, settings = platform(tmp_path, taken_port)
+    close_gateway = services.gateway.close
+
+    async def gateway_fails_to_close() -> None:
+        await close_gateway()
+        raise OSError("the audit log's disk is gone")
+
+    monkeypatch.setattr(services.gateway, "close", gateway_fails_to_close)
+    before_tasks, before_threads = running()
+    with pytest.raises(ListenerError, match="cannot listen"):
+        await start_services(services, settings)
+    tasks, threads = running()
+    assert tasks - before_tasks == set()  # the others were stopped all the same
+    assert threads - before_threads == set()
+    [record] = [r for r in caplog.records if r.levelno == logging.ERROR]
+    assert record.getMessage() == "stopping after a failed start"
+    assert record.exc_info is not None and "disk is gone" in str(record.exc_info[1])
