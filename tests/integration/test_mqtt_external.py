@@ -145,6 +145,9 @@ async def test_messages_sent_while_the_platform_was_away_arrive(
         platform.settings, platform.services.devices, platform.services.device_hub,
         platform.services.ingest,
     )  # fmt: skip
-    platform.mqtt = again  # closed by the fixture
-    await again.open()
-    assert [r["values"] for r in await platform.rows_until(1)] == [{"angle": 7}]
+    platform.mqtt = again  # what platform.status() reads
+    try:
+        await again.open()
+        assert [r["values"] for r in await platform.rows_until(1)] == [{"angle": 7}]
+    finally:  # the fixture stops the platform's own MQTT service, closed above, not this one
+        await again.close()
