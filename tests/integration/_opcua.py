@@ -155,6 +155,19 @@ async def crane_server(
         yield server
     finally:
         await server.stop()
+        await _close_detached_sessions(server)
+
+
+async def _close_detached_sessions(server: CraneOpcUaServer) -> None:
+    """asyncua (2.1) keeps the session of a client whose connection is lost open while it has
+    subscriptions, for the client to take back on a new connection (OPC UA Part 4, 6.7), until
+    the session times out; its Server.stop() closes the connections (which detaches the
+    sessions) but not those sessions, so their timeout and publishing tasks go on running in
+    the test's loop. Stopping the server under a connected client (the reconnection tests) ends
+    them here; asyncua keeps them in a private table, read only here."""
+    iserver = server._server.iserver
+    for session in list(iserver._external_sessions.values()):
+        await session.close_session(delete_subs=True)
 
 
 @asynccontextmanager
