@@ -2,7 +2,7 @@
 #   make demo   the platform with the example twins, on http://127.0.0.1:8000 (web app at /app/)
 #   make test   every test (unit and integration, with real servers on loopback, then the web app's)
 #   make bench  the benchmarks in bench/ (API, live data, processors, gateway, web app chart), results in docs/benchmarks.md
-#   make lint   ruff and mypy
+#   make lint   ruff, mypy and the import contracts (lint-imports, [tool.importlinter] in pyproject.toml)
 
 PYTHON ?= python3
 VENV   := .venv
@@ -60,6 +60,8 @@ test: $(STAMP) $(UI_BUILT)
 	@# chromium: the web app's end-to-end test drives it; mosquitto: the MQTT tests' broker
 	@# and clients (external mode, mosquitto_pub/sub against the embedded listener)
 	@scripts/ensure-packages.sh chromium mosquitto mosquitto-clients
+	@# The layering first: a broken import contract fails in a second, before 10 minutes of tests.
+	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest tests
 ifneq ($(UI_BUILT),)
 	cd ui && { test -d node_modules || npm install --no-audit --no-fund; } && npm run typecheck && npm test
@@ -96,6 +98,7 @@ lint: $(STAMP)
 	$(BIN)/ruff check src edge $(DEMO) examples/plugins tests bench
 	$(BIN)/ruff format --check src edge $(DEMO) examples/plugins tests bench
 	$(BIN)/mypy
+	$(BIN)/lint-imports --no-cache
 
 format: $(STAMP)
 	$(BIN)/ruff format src edge $(DEMO) examples/plugins tests bench
