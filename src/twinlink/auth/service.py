@@ -30,6 +30,7 @@ from twinlink.domain.errors import (
     ForbiddenError,
     InvalidInputError,
     NotFoundError,
+    TwinlinkError,
 )
 from twinlink.domain.records import ApiToken, User
 from twinlink.store.base import MetadataStore
@@ -42,12 +43,20 @@ TOKEN_CACHE_LIMIT = 10_000
 MAX_TOKEN_LIFETIME_S = 100 * 365 * 24 * 3600
 
 
-class AuthError(Exception):
-    """Missing, unknown, expired or revoked credentials (HTTP 401)."""
+class AuthError(TwinlinkError):
+    """Missing, unknown, expired or revoked credentials; the answer says how to send a token."""
+
+    status = 401
+
+    def problem_detail(self) -> str:
+        return f"{self}. Send a valid token as 'Authorization: Bearer <token>'."
 
 
 class LoginError(AuthError):
-    """A wrong username or password (HTTP 401, without the bearer-token hint)."""
+    """A wrong username or password (without the bearer-token hint)."""
+
+    def problem_detail(self) -> str:
+        return f"{self}."
 
 
 @dataclass(slots=True)

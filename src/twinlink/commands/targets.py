@@ -29,6 +29,11 @@ class DeviceChoiceError(InvalidInputError):
         self.reason = reason
         self.devices = devices
 
+    def problem_extensions(self) -> dict[str, Any]:
+        # Why, and the devices to choose from, so a client can say it in its own terms (the
+        # CLI names its --device option).
+        return {"reason": self.reason, "devices": self.devices}
+
 
 @dataclass(slots=True, frozen=True)
 class TwinDevices:

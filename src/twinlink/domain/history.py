@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from twinlink.domain.errors import TwinlinkError
+
 MIN_TIME = -(2**63)
 MAX_TIME = 2**63 - 1
 
@@ -56,16 +58,21 @@ class Compaction:
     after: int = 0
 
 
-class ReadBudgetError(Exception):
-    """A read stopped before its end; the message says why and what to change."""
+class ReadBudgetError(TwinlinkError):
+    """A read stopped before its end; the message says why and what to change. A read over
+    its time, or stopped by a shutdown, may succeed later."""
+
+    status = 503
 
 
 class QueryTooLargeError(ReadBudgetError):
-    """The answer would hold more values than a read may (HTTP 422): narrow the query."""
+    """The answer would hold more values than a read may: narrow the query."""
+
+    status = 422
 
 
 class QueryTimeoutError(ReadBudgetError):
-    """The read ran longer than it may (HTTP 503)."""
+    """The read ran longer than it may."""
 
 
 class ReadCancelledError(ReadBudgetError):

@@ -9,7 +9,7 @@ from typing import Any
 
 import orjson
 
-from twinlink.api.problems import TITLES
+from twinlink.domain.errors import TwinlinkError, problem_document
 from twinlink.domain.records import AuditEntry
 
 Scope = MutableMapping[str, Any]
@@ -18,20 +18,13 @@ Receive = Callable[[], Awaitable[Message]]
 Send = Callable[[Message], Awaitable[None]]
 ASGIApp = Callable[[Scope, Receive, Send], Awaitable[None]]
 
-# The platform's titles, and those of the answers only a gateway gives.
-_TITLES = {
-    **TITLES,
-    499: "Client closed request",
-    502: "Bad gateway",
-    503: "Service unavailable",
-    504: "Gateway timeout",
-}
 
-
-class GatewayProblem(Exception):
-    """An answer the gateway gives instead of the service's. `outcome` names it in the audit
-    log; `sent` is set when nothing can be sent any more (the client left, or the service's
-    answer had started)."""
+class GatewayProblem(TwinlinkError):
+    """An answer the gateway gives instead of the service's, with a status of its own.
+    `outcome` names it in the audit log; `sent` is set when nothing can be sent any more (the
+    client left, or the service's answer had started). The gateway sends it itself (it runs
+    in front of the API's routes), as the API would: the same problem document, plus where
+    it comes from."""
 
     def __init__(
         self,
@@ -48,18 +41,16 @@ class GatewayProblem(Exception):
         self.headers = headers or []
         self.sent = sent
 
+    def problem_extensions(self) -> dict[str, Any]:
+        # `source`: not the service, the gateway gave this answer itself.
+        return {"source": "gateway", "code": self.outcome}
+
+    def problem_headers(self) -> dict[str, str]:
+        return {name.decode("latin-1"): value.decode("latin-1") for name, value in self.headers}
+
 
 def problem_body(problem: GatewayProblem) -> tuple[bytes, list[tuple[bytes, bytes]]]:
-    body = orjson.dumps(
-        {
-            "type": "about:blank",
-            "title": _TITLES.get(problem.status, "Error"),
-            "status": problem.status,
-            "detail": problem.detail,
-            "source": "gateway",  # not the service: the gateway gave this answer itself
-            "code": problem.outcome,
-        }
-    )
+    body = orjson.dumps(problem_document(problem))
     headers = [
         (b"content-type", b"application/problem+json"),
         (b"content-length", str(len(body)).encode()),

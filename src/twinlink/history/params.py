@@ -10,6 +10,7 @@ import calendar
 import re
 from datetime import UTC, datetime
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.samples import SIGNAL_NAME
 
 TIME_HELP = (
@@ -40,8 +41,10 @@ _SMALLEST_NS = 10**17
 _INT64 = 2**63
 
 
-class QueryError(ValueError):
+class QueryError(TwinlinkError, ValueError):
     """A parameter a person must fix; the message says how."""
+
+    status = 422
 
 
 def parse_duration(text: str, name: str) -> int:
