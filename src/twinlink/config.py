@@ -20,8 +20,10 @@ from pydantic_settings import (
     TomlConfigSettingsSource,
 )
 
+from twinlink.domain.errors import TwinlinkError
 
-class ConfigError(ValueError):
+
+class ConfigError(TwinlinkError, ValueError):
     """Settings that cannot be used; the message names the setting and the problem."""
 
 

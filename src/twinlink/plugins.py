@@ -25,6 +25,8 @@ from typing import Any, Generic, TypeVar
 
 from pydantic import BaseModel, Secret, SecretStr
 
+from twinlink.domain.errors import TwinlinkError
+
 log = logging.getLogger("twinlink.plugins")
 
 CONNECTORS = "twinlink.connectors"
@@ -37,7 +39,7 @@ HOME = "twinlink"
 T = TypeVar("T")
 
 
-class PluginUnavailable(Exception):
+class PluginUnavailable(TwinlinkError):
     """The plug-in is registered but cannot be used here; the message names its package and
     why (a library it needs is missing, the module fails to import, ...)."""
 

@@ -23,7 +23,7 @@ from twinlink.auth.service import AuthError
 from twinlink.domain.errors import NotFoundError
 from twinlink.live import protocol
 from twinlink.live.outbox import Outbox
-from twinlink.live.protocol import ClientError
+from twinlink.live.protocol import LiveMessageError
 from twinlink.live.session import Authenticator, LatestReader, LiveSession
 from twinlink.store.history import HistoryReadStore
 from twinlink.tasks import until_first_done
@@ -40,6 +40,9 @@ _MAX_REASON = 120  # a close reason is at most 123 bytes
 
 class _Gone(Exception):
     """The client left before it was authenticated."""
+
+    # Not a TwinlinkError: control flow of this route, which then just ends; nobody is left
+    # to answer.
 
 
 @router.websocket("/live")
@@ -121,7 +124,7 @@ async def _first_message_token(websocket: WebSocket) -> str:
         raise _Gone
     try:
         return protocol.read_token(protocol.read_message(_payload(frame)))
-    except ClientError as err:
+    except LiveMessageError as err:
         raise AuthError(str(err)) from None
 
 

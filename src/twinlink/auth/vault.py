@@ -15,10 +15,12 @@ from typing import Any
 import orjson
 from cryptography.fernet import Fernet, InvalidToken
 
+from twinlink.domain.errors import TwinlinkError
+
 KEY_FILE = "secret.key"
 
 
-class VaultError(Exception):
+class VaultError(TwinlinkError):
     """Stored credentials cannot be read with this key (the key changed or was lost)."""
 
 

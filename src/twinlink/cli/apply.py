@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from twinlink.cli.client import ClientError
+from twinlink.cli.client import ApiCallError
 from twinlink.cli.common import client_for
 from twinlink.cli.connectors import apply_connectors, connector_file
 
@@ -57,7 +57,7 @@ def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
             try:
                 for line in apply_connectors(client, connector_docs):
                     click.echo(line)
-            except ClientError as err:
+            except ApiCallError as err:
                 click.echo(f"{name}: {err}", err=True)
                 failed = True
             continue
@@ -65,7 +65,7 @@ def apply(ctx: click.Context, paths: tuple[str, ...]) -> None:
             answer = client.json(
                 "POST", "/api/v1/apply", content=body, headers={"Content-Type": kind}
             )
-        except ClientError as err:
+        except ApiCallError as err:
             click.echo(f"{name}: {err}", err=True)
             failed = True
             continue

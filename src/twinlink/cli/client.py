@@ -10,10 +10,12 @@ from typing import Any
 import httpx
 import orjson
 
+from twinlink.domain.errors import TwinlinkError
+
 DEFAULT_URL = "http://127.0.0.1:8000"
 
 
-class ClientError(Exception):
+class ApiCallError(TwinlinkError):
     """The server refused the request, or could not be reached; the message says why.
     `problem` is the server's problem+json answer, when it sent one."""
 
@@ -68,9 +70,9 @@ class Client:
         try:
             response = self.http.request(method, path, **kwargs)
         except httpx.HTTPError as err:
-            raise ClientError(f"cannot reach twinlink at {self.url}: {err}") from err
+            raise ApiCallError(f"cannot reach twinlink at {self.url}: {err}") from err
         if response.status_code >= 400:
-            raise ClientError(explain(response), _problem(response))
+            raise ApiCallError(explain(response), _problem(response))
         return response
 
     def json(self, method: str, path: str, **kwargs: Any) -> Any:

@@ -8,7 +8,7 @@ from typing import Any
 import click
 import orjson
 
-from twinlink.cli.client import ClientError
+from twinlink.cli.client import ApiCallError
 from twinlink.cli.common import HelpGroup, client_for, emit
 from twinlink.domain.jsontext import JsonTextError, loads
 
@@ -74,12 +74,12 @@ def send(
     client.http.timeout = (timeout or 3600.0) + _HTTP_MARGIN_S
     try:
         record = client.json("POST", f"/api/v1/twins/{twin}/commands", json=body)
-    except ClientError as err:
+    except ApiCallError as err:
         reason = (err.problem or {}).get("reason") if device is None else None
         if not isinstance(reason, str):
             raise
         # The server could not choose a device; it names the API's field, this names ours.
-        raise ClientError(f"{reason}; name one with --device NAME") from None
+        raise ApiCallError(f"{reason}; name one with --device NAME") from None
     if as_json:
         click.echo(_json(record))
     else:

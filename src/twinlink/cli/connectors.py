@@ -8,7 +8,7 @@ from typing import Any
 import click
 import yaml
 
-from twinlink.cli.client import Client, ClientError
+from twinlink.cli.client import ApiCallError, Client
 from twinlink.cli.commands import parse_assignments
 from twinlink.cli.common import HelpGroup, client_for, emit, table
 
@@ -162,7 +162,7 @@ def apply_connectors(client: Client, docs: list[dict[str, Any]]) -> list[str]:
     for doc in docs:
         twin, items = doc["twin"], doc["connectors"]
         if not isinstance(items, list):
-            raise ClientError(f"twin {twin}: `connectors` is a list")
+            raise ApiCallError(f"twin {twin}: `connectors` is a list")
         have = {c["name"] for c in client.json("GET", _base(twin))["connectors"]}
         for item in items:
             name = item.get("name") if isinstance(item, dict) else None

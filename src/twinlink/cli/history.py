@@ -10,7 +10,7 @@ from typing import IO, Any
 import click
 import httpx
 
-from twinlink.cli.client import Client, ClientError, explain
+from twinlink.cli.client import ApiCallError, Client, explain
 from twinlink.cli.common import HelpGroup, client_for, emit, show_value, table
 
 _TIME_HELP = "ISO 8601, ns since the epoch, now, or back from now (-1h, -15m, -7d)."
@@ -216,11 +216,11 @@ def _download(client: Client, path: str, params: dict[str, Any], out: IO[bytes])
         with client.http.stream("GET", path, params=params) as response:
             if response.status_code >= 400:
                 response.read()
-                raise ClientError(explain(response))
+                raise ApiCallError(explain(response))
             written = 0
             for chunk in response.iter_bytes():
                 out.write(chunk)
                 written += len(chunk)
             return written
     except httpx.HTTPError as err:
-        raise ClientError(f"cannot reach twinlink at {client.url}: {err}") from err
+        raise ApiCallError(f"cannot reach twinlink at {client.url}: {err}") from err

@@ -9,7 +9,7 @@ import click
 
 from twinlink.cli.admin import devices, tokens, twins, users
 from twinlink.cli.apply import apply
-from twinlink.cli.client import ClientError
+from twinlink.cli.client import ApiCallError
 from twinlink.cli.commands import commands, properties, send
 from twinlink.cli.common import HelpGroup
 from twinlink.cli.connectors import connectors
@@ -24,13 +24,13 @@ from twinlink.config import ConfigError
 
 
 class _Group(HelpGroup):
-    """Turns a ClientError into a clear message and exit status 1, never a traceback; in
+    """Turns an ApiCallError into a clear message and exit status 1, never a traceback; in
     click's own style ("Error: ..."), as its usage errors are."""
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
-        except (ClientError, ConfigError) as err:
+        except (ApiCallError, ConfigError) as err:
             raise click.ClickException(str(err)) from None
 
 

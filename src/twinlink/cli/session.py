@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from twinlink.cli.client import ClientError, forget_credentials, save_credentials
+from twinlink.cli.client import ApiCallError, forget_credentials, save_credentials
 from twinlink.cli.common import client_for
 
 
@@ -35,7 +35,7 @@ def logout(ctx: click.Context) -> None:
     if client.token:
         try:
             client.json("POST", "/api/v1/auth/logout")
-        except ClientError as err:
+        except ApiCallError as err:
             click.echo(
                 f"note: the server did not revoke the token ({err.args[0].splitlines()[0]})",
                 err=True,

@@ -20,6 +20,7 @@ from typing import Any, ClassVar, Protocol
 import orjson
 from pydantic import BaseModel
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.records import Device
 from twinlink.ingest.health import Health
 from twinlink.ingest.link import DeviceLink, ServerSeq, connect_device, disconnect_device
@@ -29,7 +30,7 @@ from twinlink.ingest.sessions import DeviceHub
 log = logging.getLogger("twinlink.connectors")
 
 
-class ConnectorError(Exception):
+class ConnectorError(TwinlinkError):
     """A connector cannot start as configured (address in use, bad format...); the message
     says what to change."""
 

@@ -14,6 +14,7 @@ from datetime import UTC, datetime
 from decimal import Decimal, InvalidOperation
 from typing import Any
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.jsontext import INT64_MAX, INT64_MIN
 
 NS = 1_000_000_000
@@ -27,7 +28,7 @@ SPAN_HUMAN = "1677-09-21T00:12:44Z to 2262-04-11T23:47:16Z"
 SPAN_MACHINE = f"Unix seconds from {FIRST_SECOND} to {LAST_SECOND} ({SPAN_HUMAN})"
 
 
-class TimeRangeError(ValueError):
+class TimeRangeError(TwinlinkError, ValueError):
     """A time that reads well but lies outside what 64-bit nanoseconds hold; the message
     names the span."""
 

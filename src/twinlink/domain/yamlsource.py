@@ -25,6 +25,9 @@ Path = tuple[str | int, ...]
 class _IntTooLong(Exception):
     """An integer literal Python will not turn into an int (over 4 300 digits)."""
 
+    # Not a TwinlinkError: control flow inside this module, which answers it as a problem
+    # of the document (DocumentError) with the literal's line and column.
+
     def __init__(self, node: yaml.ScalarNode) -> None:
         super().__init__(node.value)
         self.node = node
@@ -98,7 +101,10 @@ _MERGE = "tag:yaml.org,2002:merge"
 
 
 class _TooLarge(Exception):
-    pass
+    """A document over MAX_VALUES values or MAX_DEPTH levels, found while walking it."""
+
+    # Not a TwinlinkError: control flow inside this module, which answers it as a problem
+    # of the document (DocumentError) with the line where the document starts.
 
 
 def _position(node: yaml.Node) -> tuple[int, int]:

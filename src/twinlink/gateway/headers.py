@@ -7,6 +7,8 @@ from __future__ import annotations
 import re
 from urllib.parse import unquote, urlsplit
 
+from twinlink.domain.errors import TwinlinkError
+
 Headers = list[tuple[bytes, bytes]]
 
 HOP_BY_HOP = frozenset(
@@ -55,7 +57,7 @@ def is_field_value(value: str) -> bool:
     return bool(_FIELD_VALUE.match(value))
 
 
-class RedirectRefused(ValueError):
+class RedirectRefused(TwinlinkError, ValueError):
     """The service redirected outside its own base URL."""
 
 

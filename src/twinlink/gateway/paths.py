@@ -13,6 +13,8 @@ import re
 from dataclasses import dataclass
 from urllib.parse import unquote_to_bytes
 
+from twinlink.domain.errors import TwinlinkError
+
 _TWIN_SERVICE = re.compile(rb"^/twins/([a-z0-9][a-z0-9-]*)/services/([a-z0-9][a-z0-9-]*)(/.*)?$")
 _DEFAULT = re.compile(rb"^/services/([a-z0-9][a-z0-9-]*)(/.*)?$")
 _ALLOWED = re.compile(rb"^[A-Za-z0-9\-._~!$&'()*+,;=:@%]*$")
@@ -20,7 +22,7 @@ _PLAIN = re.compile(rb"^[A-Za-z0-9\-._~!$&'()*+,;=:@][A-Za-z0-9\-._~!$&'()*+,;=:
 _DOUBLE = re.compile(rb"%(?:25|2e|2f|5c|00)", re.IGNORECASE)
 
 
-class PathRefused(ValueError):
+class PathRefused(TwinlinkError, ValueError):
     """A path that could leave the service's base URL."""
 
 

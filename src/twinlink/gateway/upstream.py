@@ -19,6 +19,8 @@ from typing import cast
 
 import httptools
 
+from twinlink.domain.errors import TwinlinkError
+
 Headers = list[tuple[bytes, bytes]]
 # A response body is read from the socket ahead of the client by at most this much.
 HIGH_WATER = 1 << 20
@@ -26,7 +28,7 @@ IDLE_KEEP_S = 30.0
 IDLE_PER_ORIGIN = 128
 
 
-class UpstreamError(Exception):
+class UpstreamError(TwinlinkError):
     """The service could not be reached or broke the exchange; `stage` says when."""
 
     def __init__(self, stage: str, detail: str) -> None:

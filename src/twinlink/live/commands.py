@@ -16,19 +16,12 @@ from typing import Any, Protocol
 
 from twinlink.auth.rights import Principal
 from twinlink.domain.commands import CommandRecord
-from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
+from twinlink.domain.errors import TwinlinkError
 from twinlink.live import protocol
 from twinlink.live.outbox import Outbox
-from twinlink.live.protocol import ClientError, CommandRequest
+from twinlink.live.protocol import CommandRequest, LiveMessageError
 
 log = logging.getLogger("twinlink.live")
-
-_STATUS: tuple[tuple[type[Exception], int], ...] = (
-    (ForbiddenError, 403),
-    (NotFoundError, 404),
-    (ConflictError, 409),
-    (InvalidInputError, 422),
-)
 
 
 class CommandSender(Protocol):
@@ -89,9 +82,10 @@ class CommandOps:
             await asyncio.gather(*tasks, return_exceptions=True)
 
 
-def _refusal(err: Exception, op_id: str) -> ClientError:
-    for kind, status in _STATUS:
-        if isinstance(err, kind):
-            return ClientError(str(err), "command", op_id, status)
+def _refusal(err: Exception, op_id: str) -> LiveMessageError:
+    if isinstance(err, TwinlinkError) and err.status != 500:  # an answer of its own
+        return LiveMessageError(str(err), "command", op_id, err.status)
     log.error("a command op failed", exc_info=err, extra={"event": "live_command_failed"})
-    return ClientError("internal error; the command may not have been sent", "command", op_id, 500)
+    return LiveMessageError(
+        "internal error; the command may not have been sent", "command", op_id, 500
+    )

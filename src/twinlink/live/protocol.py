@@ -1,7 +1,7 @@
 """The live WebSocket's messages: reading what a client sends, building what the server sends.
 
 Every client message is a JSON object with an `op`. A message that cannot be read raises
-`ClientError`; the connection answers it with an `error` message and stays open.
+`LiveMessageError`; the connection answers it with an `error` message and stays open.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from typing import Any
 
 import orjson
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.jsontext import JsonTextError, first_big_int, int64_problem, loads
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
 from twinlink.live.subscription import Subscription
@@ -27,8 +28,12 @@ MAX_COMMANDS = 256  # command ops of one connection under way at once
 OPS = ("subscribe", "unsubscribe", "command", "ping")
 
 
-class ClientError(ValueError):
-    """A client message the server cannot act on; answered with an `error` message."""
+class LiveMessageError(TwinlinkError, ValueError):
+    """A client message the server cannot act on; answered with an `error` message. Its
+    `status` is the HTTP status the same refusal would have: 422 unless given. The message
+    shows it only when given (a command op's refusal)."""
+
+    status = 422
 
     def __init__(
         self, message: str, op: str | None = None, sub: str | None = None, status: int = 0
@@ -36,7 +41,9 @@ class ClientError(ValueError):
         super().__init__(message)
         self.op = op
         self.sub = sub
-        self.status = status  # the HTTP status the same refusal would have (commands only)
+        self.shown_status = status  # 0: none shown
+        if status:
+            self.status = status
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,16 +72,16 @@ class SubscribeRequest:
 def read_message(raw: str | bytes) -> dict[str, Any]:
     """Parse one client frame into an object with a string `op`."""
     if _size(raw) > MAX_CLIENT_MESSAGE:
-        raise ClientError(f"a message holds at most {MAX_CLIENT_MESSAGE} bytes")
+        raise LiveMessageError(f"a message holds at most {MAX_CLIENT_MESSAGE} bytes")
     try:
         message = loads(raw)  # integers exact: one beyond 64 bits is refused, not rounded
     except JsonTextError as err:
-        raise ClientError(f"the message is not JSON: {err}") from None
+        raise LiveMessageError(f"the message is not JSON: {err}") from None
     if not isinstance(message, dict):
-        raise ClientError('a message is a JSON object with an "op"')
+        raise LiveMessageError('a message is a JSON object with an "op"')
     op = message.get("op")
     if not isinstance(op, str):
-        raise ClientError(f'a message needs an "op": one of {", ".join(OPS)}')
+        raise LiveMessageError(f'a message needs an "op": one of {", ".join(OPS)}')
     _refuse_big_ints(message, op)
     return message
 
@@ -86,7 +93,7 @@ def _refuse_big_ints(message: dict[str, Any], op: str) -> None:
     if found is None:
         return
     sub = message.get("id")
-    raise ClientError(
+    raise LiveMessageError(
         f"{found[0]}: {int64_problem(found[1])}",
         op=op if op in OPS else None,
         sub=sub if isinstance(sub, str) and 0 < len(sub) <= MAX_ID else None,
@@ -104,7 +111,7 @@ def read_token(message: dict[str, Any]) -> str:
     """The token of a first `{"op": "auth", "token": ...}` message."""
     token = message.get("token")
     if message.get("op") != "auth" or not isinstance(token, str) or not token:
-        raise ClientError('authenticate first: {"op": "auth", "token": "tl_..."}', op="auth")
+        raise LiveMessageError('authenticate first: {"op": "auth", "token": "tl_..."}', op="auth")
     return token
 
 
@@ -112,7 +119,7 @@ def read_sub_id(message: dict[str, Any]) -> str:
     op = str(message.get("op"))
     sub = message.get("id")
     if not isinstance(sub, str) or not 0 < len(sub) <= MAX_ID:
-        raise ClientError(f'"id" must be a string of 1 to {MAX_ID} characters', op=op)
+        raise LiveMessageError(f'"id" must be a string of 1 to {MAX_ID} characters', op=op)
     return sub
 
 
@@ -120,21 +127,21 @@ def read_subscribe(message: dict[str, Any]) -> SubscribeRequest:
     sub = read_sub_id(message)
     twin = message.get("twin")
     if not isinstance(twin, str) or not twin:
-        raise ClientError('"twin" must be the slug of a twin', "subscribe", sub)
+        raise LiveMessageError('"twin" must be the slug of a twin', "subscribe", sub)
     stream = message.get("stream", DEFAULT_STREAM)
     if not isinstance(stream, str) or not STREAM_NAME.match(stream):
-        raise ClientError(f'"stream" must match {STREAM_NAME.pattern}', "subscribe", sub)
+        raise LiveMessageError(f'"stream" must match {STREAM_NAME.pattern}', "subscribe", sub)
     return SubscribeRequest(
         sub, twin, stream, _read_signals(message.get("signals"), sub), _read_rate(message, sub)
     )
 
 
 def read_command(message: dict[str, Any]) -> CommandRequest:
-    """A `command` op; ClientError (status 422) names the first field that is wrong."""
+    """A `command` op; LiveMessageError (status 422) names the first field that is wrong."""
     op_id = read_sub_id(message)
 
-    def wrong(text: str) -> ClientError:
-        return ClientError(text, "command", op_id, 422)
+    def wrong(text: str) -> LiveMessageError:
+        return LiveMessageError(text, "command", op_id, 422)
 
     twin, name = message.get("twin"), message.get("name")
     if not isinstance(twin, str) or not twin:
@@ -161,14 +168,14 @@ def _read_signals(raw: Any, sub: str) -> frozenset[str] | None:
     if raw is None:
         return None
     if not isinstance(raw, list) or not 0 < len(raw) <= MAX_SIGNALS:
-        raise ClientError(
+        raise LiveMessageError(
             f'"signals" must be a list of 1 to {MAX_SIGNALS} names (leave it out for all)',
             "subscribe",
             sub,
         )
     for name in raw:
         if not isinstance(name, str) or not SIGNAL_NAME.match(name):
-            raise ClientError(
+            raise LiveMessageError(
                 f"signal name {name!r} must match {SIGNAL_NAME.pattern}", "subscribe", sub
             )
     return frozenset(raw)
@@ -184,7 +191,7 @@ def _read_rate(message: dict[str, Any], sub: str) -> float | None:
         or not math.isfinite(rate)
         or not 0 < rate <= MAX_RATE
     ):
-        raise ClientError(
+        raise LiveMessageError(
             '"max_rate" must be a number of samples per second above 0', "subscribe", sub
         )
     return float(rate)
@@ -238,14 +245,14 @@ def pong(message: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def error(err: ClientError) -> dict[str, Any]:
+def error(err: LiveMessageError) -> dict[str, Any]:
     out: dict[str, Any] = {"type": "error", "message": str(err)}
     if err.op is not None:
         out["op"] = err.op
     if err.sub is not None:
         out["id"] = err.sub
-    if err.status:
-        out["status"] = err.status
+    if err.shown_status:
+        out["status"] = err.shown_status
     return out
 
 

@@ -18,7 +18,7 @@ from twinlink.live import protocol
 from twinlink.live.commands import CommandOps, CommandSender
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
-from twinlink.live.protocol import ClientError, CommandRequest, SubscribeRequest
+from twinlink.live.protocol import CommandRequest, LiveMessageError, SubscribeRequest
 from twinlink.live.subscription import Subscription
 
 log = logging.getLogger("twinlink.live")
@@ -74,7 +74,7 @@ class LiveSession:
         anything else wrong with the frame is answered with an `error` message."""
         try:
             await self._dispatch(protocol.read_message(raw))
-        except ClientError as err:
+        except LiveMessageError as err:
             self.outbox.put_control(protocol.error(err))
 
     async def _dispatch(self, message: dict[str, Any]) -> None:
@@ -88,20 +88,20 @@ class LiveSession:
         elif op == "ping":
             self.outbox.put_control(protocol.pong(message))
         elif op == "auth":
-            raise ClientError("already authenticated", op="auth")
+            raise LiveMessageError("already authenticated", op="auth")
         else:
             shown = op if len(op) <= 40 else op[:37] + "..."
-            raise ClientError(
+            raise LiveMessageError(
                 f"unknown op {shown!r}; expected one of {', '.join(protocol.OPS)}", op=shown
             )
 
     async def subscribe(self, request: SubscribeRequest) -> None:
         if request.id in self.subs:
-            raise ClientError(
+            raise LiveMessageError(
                 f"subscription {request.id!r} exists; unsubscribe it first", "subscribe", request.id
             )
         if len(self.subs) >= protocol.MAX_SUBSCRIPTIONS:
-            raise ClientError(
+            raise LiveMessageError(
                 f"a connection holds at most {protocol.MAX_SUBSCRIPTIONS} subscriptions",
                 "subscribe",
                 request.id,
@@ -113,7 +113,7 @@ class LiveSession:
                 self.principal, request.twin, "viewer", "the live streams"
             )
         except (NotFoundError, ForbiddenError) as err:
-            raise ClientError(str(err), "subscribe", request.id) from None
+            raise LiveMessageError(str(err), "subscribe", request.id) from None
         sub = Subscription(
             request.id, twin.id, twin.slug, request.stream, request.signals, request.max_rate
         )
@@ -131,7 +131,7 @@ class LiveSession:
 
     async def command(self, request: CommandRequest) -> None:
         if self.commands is None:
-            raise ClientError("commands are not available here", "command", request.id)
+            raise LiveMessageError("commands are not available here", "command", request.id)
         # Each command checks the token again (a cached answer: see AuthService), so a revoked
         # one is noticed at once; the rights on the twin are CommandService's to check.
         self.principal = await self.auth.authenticate(self.token)
@@ -140,7 +140,7 @@ class LiveSession:
     def unsubscribe(self, sub_id: str) -> None:
         sub = self.subs.get(sub_id)
         if sub is None:
-            raise ClientError(f"no subscription {sub_id!r}", "unsubscribe", sub_id)
+            raise LiveMessageError(f"no subscription {sub_id!r}", "unsubscribe", sub_id)
         self._end(sub)
         self.outbox.put_control(protocol.unsubscribed(sub_id))
 

@@ -34,6 +34,8 @@ from typing import Annotated, Any, ClassVar, Generic, TypeVar
 import numpy as np
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
+from twinlink.domain.errors import TwinlinkError
+
 P = TypeVar("P", bound=BaseModel)
 
 # Upper bounds for parameters that are durations and rates, so each is declared with a range
@@ -63,7 +65,7 @@ def distinct(names: list[Any]) -> list[Any]:
 Names = Annotated[list[str], AfterValidator(distinct)]
 
 
-class BlueprintError(Exception):
+class BlueprintError(TwinlinkError):
     """The blueprint cannot go on with these parameters or this input; the message says why."""
 
 

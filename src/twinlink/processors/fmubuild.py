@@ -40,6 +40,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from xml.etree import ElementTree
 
+from twinlink.domain.errors import TwinlinkError
+
 __all__ = ["FmuBuildError", "ModelInfo", "build_fmu", "build_if_stale", "main", "read_model_info"]
 
 log = logging.getLogger(__name__)
@@ -57,7 +59,7 @@ COMPILE_TIMEOUT_S = 300.0
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
-class FmuBuildError(Exception):
+class FmuBuildError(TwinlinkError):
     """The FMU could not be built. The message says why, with the compiler's output if any."""
 
 

@@ -18,6 +18,8 @@ from fmpy.model_description import ValidationError  # type: ignore[import-untype
 from fmpy.validation import validate_fmu  # type: ignore[import-untyped]
 from lxml import etree  # type: ignore[import-untyped]
 
+from twinlink.domain.errors import TwinlinkError
+
 GiB = 1 << 30
 FLOAT_TYPES = frozenset({"Real", "Float64", "Float32"})
 INT_TYPES = frozenset(
@@ -28,7 +30,7 @@ Scalar = float | int | bool | str
 Kind = Literal["CoSimulation", "ModelExchange"]
 
 
-class FmuError(Exception):
+class FmuError(TwinlinkError):
     """The file is not an FMU this platform can run; the message says why."""
 
 

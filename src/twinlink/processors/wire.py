@@ -29,6 +29,9 @@ _decoder = msgspec.msgpack.Decoder()
 class ChannelClosed(Exception):
     """The other end went away."""
 
+    # Not a TwinlinkError: control flow between a processor's supervisor and its worker
+    # process, which ends the channel (the supervisor restarts the worker); never an answer.
+
 
 def frame(message: dict[str, Any]) -> bytes:
     body = _encoder.encode(message)

@@ -14,8 +14,10 @@ from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.hazmat.primitives.asymmetric.types import PrivateKeyTypes, PublicKeyTypes
 from cryptography.x509.oid import NameOID
 
+from twinlink.domain.errors import TwinlinkError
 
-class CertificateFileError(ValueError):
+
+class CertificateFileError(TwinlinkError, ValueError):
     """A certificate or key file that cannot be used; the text names the file and why."""
 
 

@@ -46,6 +46,7 @@ from twinlink.connectors.opcua.session import (
     subscribe,
 )
 from twinlink.connectors.opcua.values import SampleBatcher, read_data_value
+from twinlink.domain.errors import TwinlinkError
 from twinlink.tasks import until_first_done
 
 __all__ = ["OpcUaConnector"]
@@ -59,7 +60,7 @@ REMEMBERED_RESULTS = 256  # a command delivered again (at least once) is answere
 MAX_FAILED_NODES = 50  # signals listed in the status with their reasons; the rest counted
 
 
-class SessionLost(Exception):
+class SessionLost(TwinlinkError):
     """The session ended; the text says how."""
 
 

@@ -17,6 +17,7 @@ from cryptography import x509
 
 from twinlink.connectors.opcua.certs import describe, first_certificate
 from twinlink.connectors.opcua.config import OpcUaConfig
+from twinlink.domain.errors import TwinlinkError
 
 POLICIES: dict[str, type[security_policies.SecurityPolicy]] = {
     "Basic256Sha256": security_policies.SecurityPolicyBasic256Sha256,
@@ -41,7 +42,7 @@ _MODE_NAMES = {
 }
 
 
-class ServerCertificateMismatch(UaError):
+class ServerCertificateMismatch(TwinlinkError, UaError):
     """The server presents a certificate other than the configured `server_certificate`."""
 
     def __init__(self, presented: x509.Certificate, expected: x509.Certificate, path: Path):

@@ -32,6 +32,7 @@ from twinlink.connectors.opcua.config import (
     parse_node_ref,
 )
 from twinlink.connectors.opcua.values import ValueRefused, json_value, variant_for
+from twinlink.domain.errors import TwinlinkError
 
 # Notifications asyncua holds for the connector; past this (the platform far behind) the
 # oldest are dropped.
@@ -39,7 +40,7 @@ MAX_BUFFERED = 100_000
 _DEADBAND_TYPES = {"absolute": 1, "percent": 2}
 
 
-class CommandFailed(Exception):
+class CommandFailed(TwinlinkError):
     """A command could not be carried out; the text is the command's error."""
 
 

@@ -12,6 +12,7 @@ from typing import Any
 
 from asyncua import ua
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.jsontext import int64_problem
 from twinlink.domain.samples import MAX_STRING, Value
 
@@ -32,7 +33,7 @@ _INT_RANGES = {
 _FLOATS = (ua.VariantType.Float, ua.VariantType.Double)
 
 
-class ValueRefused(ValueError):
+class ValueRefused(TwinlinkError, ValueError):
     """A value that cannot cross between OPC UA and the platform; the text says why."""
 
 

@@ -14,6 +14,7 @@ import struct
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.jsontext import JsonTextError, loads
 
 Sample = dict[str, Any]
@@ -31,7 +32,7 @@ CATMAN_HEADER = struct.Struct("<HHI")  # id, number of channels, record counter
 _COUNTER_SPAN = 1 << 32
 
 
-class DecodeError(Exception):
+class DecodeError(TwinlinkError):
     """The datagram as a whole cannot be read; `kind` is the short name it is counted by."""
 
     def __init__(self, kind: str, text: str) -> None:

@@ -14,13 +14,14 @@ from urllib.parse import urlsplit
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, SecretStr
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.gateway.headers import is_field_name, is_field_value
 from twinlink.plugins import split_secrets
 
 Headers = list[tuple[bytes, bytes]]
 
 
-class RefreshError(Exception):
+class RefreshError(TwinlinkError):
     """New credentials could not be obtained; the message never holds a secret."""
 
 

@@ -14,6 +14,9 @@ Buffer = bytes | bytearray | memoryview
 class MalformedPacket(Exception):
     """Bytes that are not a valid MQTT packet; the connection is closed (v5: reason 0x81)."""
 
+    # Not a TwinlinkError: control flow of an MQTT connection, which it ends with a
+    # DISCONNECT; the client is told by the reason code, never by an HTTP answer.
+
 
 def encode_varint(value: int) -> bytes:
     """A variable byte integer (1.5.5): 7 bits a byte, low first, high bit = more."""

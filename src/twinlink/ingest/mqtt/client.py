@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TypeVar
 from urllib.parse import urlsplit
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.ingest.mqtt import packets as mq
 
 READ_BYTES = 256 * 1024
@@ -18,7 +19,7 @@ HANDSHAKE_TIMEOUT_S = 10.0
 _P = TypeVar("_P", mq.ConnAck, mq.SubAck)
 
 
-class BrokerError(Exception):
+class BrokerError(TwinlinkError):
     """The broker cannot be used as configured; the message says which setting to change."""
 
 

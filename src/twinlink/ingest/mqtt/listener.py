@@ -14,6 +14,7 @@ import asyncio
 import logging
 import time
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.ingest.mqtt import packets as mq
 from twinlink.ingest.mqtt.connection import DeviceConnection
 from twinlink.ingest.mqtt.platform import Platform
@@ -25,7 +26,7 @@ log = logging.getLogger("twinlink.mqtt")
 SWEEP_S = 1.0  # how often keep-alives are checked
 
 
-class ListenerError(Exception):
+class ListenerError(TwinlinkError):
     """The listener cannot start as configured (the address is in use, say)."""
 
 

@@ -63,6 +63,8 @@ class ProtocolViolation(MalformedPacket):
     """A well-formed packet that breaks the protocol (a second CONNECT, wrong flags); carries
     the MQTT 5 reason code for the DISCONNECT."""
 
+    # Not a TwinlinkError, as MalformedPacket: it ends the connection with `reason`.
+
     def __init__(self, text: str, reason: int = PROTOCOL_ERROR) -> None:
         super().__init__(text)
         self.reason = reason

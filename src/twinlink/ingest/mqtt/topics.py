@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.slug import SLUG
 from twinlink.registry.devices import DEVICE_NAME
 
@@ -24,7 +25,7 @@ REPORTED = "reported"
 STATUS = "status"
 
 
-class TopicError(ValueError):
+class TopicError(TwinlinkError, ValueError):
     """A topic outside the scheme; the message says what was expected."""
 
 
