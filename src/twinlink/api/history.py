@@ -12,12 +12,11 @@ it for complete (JSON lines get a last `{"error": ...}` line first).
 from __future__ import annotations
 
 import logging
-from collections.abc import AsyncIterator, Iterator
-from contextlib import contextmanager
+from collections.abc import AsyncIterator
 from typing import Annotated
 
 import orjson
-from fastapi import APIRouter, Depends, HTTPException, Query, Request
+from fastapi import APIRouter, Depends, Query, Request
 from starlette.responses import StreamingResponse
 from starlette.types import Send
 
@@ -38,13 +37,11 @@ from twinlink.domain.history import (
     METHODS,
     MIN_TIME,
     TIME_FORMATS,
-    QueryTooLargeError,
     ReadBudgetError,
 )
 from twinlink.history.params import (
     DURATION_HELP,
     TIME_HELP,
-    QueryError,
     parse_choice,
     parse_choices,
     parse_cursor,
@@ -79,20 +76,6 @@ Signals = Annotated[
 ]
 Start = Annotated[str | None, Query(description=f"From this time (inclusive): {TIME_HELP}.")]
 End = Annotated[str | None, Query(description=f"To this time (inclusive): {TIME_HELP}.")]
-
-
-@contextmanager
-def _bad_parameters() -> Iterator[None]:
-    """A QueryError or an answer over the values budget becomes a 422 problem with its
-    message; a read over its time (or stopped by a shutdown) a 503."""
-    try:
-        yield
-    except QueryError as err:
-        raise HTTPException(422, str(err)) from None
-    except QueryTooLargeError as err:
-        raise HTTPException(422, str(err)) from None
-    except ReadBudgetError as err:
-        raise HTTPException(503, str(err)) from None
 
 
 class ExportResponse(StreamingResponse):
@@ -163,9 +146,8 @@ async def list_streams(slug: str, caller: Caller, history: History) -> JSONAnswe
 async def latest(
     slug: str, stream: str, caller: Caller, history: History, signals: Signals = None
 ) -> JSONAnswer:
-    with _bad_parameters():
-        names = parse_names(signals)
-        return JSONAnswer(await history.latest(caller, slug, stream, names))
+    names = parse_names(signals)
+    return JSONAnswer(await history.latest(caller, slug, stream, names))
 
 
 @router.get(
@@ -185,10 +167,9 @@ async def samples(
     limit: Annotated[int, Query(ge=1, le=100_000, description="Most rows in this page.")] = 1000,
     cursor: Annotated[str | None, Query(description="`next_cursor` of the previous page.")] = None,
 ) -> JSONAnswer:
-    with _bad_parameters():
-        sel = _selection(history, stream, signals, start, end)
-        after = parse_cursor(cursor)
-        return JSONAnswer(await history.samples(caller, slug, sel, limit, after))
+    sel = _selection(history, stream, signals, start, end)
+    after = parse_cursor(cursor)
+    return JSONAnswer(await history.samples(caller, slug, sel, limit, after))
 
 
 @router.get(
@@ -213,11 +194,10 @@ async def aggregate(
     start: Start = None,
     end: End = None,
 ) -> JSONAnswer:
-    with _bad_parameters():
-        sel = _selection(history, stream, signals, start, end)
-        width = parse_duration(bucket, "bucket")
-        fns = parse_choices(fn, "fn", FUNCTIONS, ["avg"])
-        return JSONAnswer(await history.aggregate(caller, slug, sel, width, fns))
+    sel = _selection(history, stream, signals, start, end)
+    width = parse_duration(bucket, "bucket")
+    fns = parse_choices(fn, "fn", FUNCTIONS, ["avg"])
+    return JSONAnswer(await history.aggregate(caller, slug, sel, width, fns))
 
 
 @router.get(
@@ -240,10 +220,9 @@ async def downsample(
     start: Start = None,
     end: End = None,
 ) -> JSONAnswer:
-    with _bad_parameters():
-        sel = _selection(history, stream, signals, start, end)
-        chosen = parse_choice(method, "method", METHODS, "minmax")
-        return JSONAnswer(await history.downsample(caller, slug, sel, points, chosen))
+    sel = _selection(history, stream, signals, start, end)
+    chosen = parse_choice(method, "method", METHODS, "minmax")
+    return JSONAnswer(await history.downsample(caller, slug, sel, points, chosen))
 
 
 @router.get(
@@ -267,9 +246,8 @@ async def export(
     start: Start = None,
     end: End = None,
 ) -> ExportResponse:
-    with _bad_parameters():
-        sel = _selection(history, stream, signals, start, end)
-        fmt = parse_choice(format, "format", FORMATS, "csv")
-        time_format = parse_choice(time, "time", TIME_FORMATS, "iso" if fmt == "csv" else "ns")
-        out = await history.export(caller, slug, sel, fmt, time_format)
+    sel = _selection(history, stream, signals, start, end)
+    fmt = parse_choice(format, "format", FORMATS, "csv")
+    time_format = parse_choice(time, "time", TIME_FORMATS, "iso" if fmt == "csv" else "ns")
+    out = await history.export(caller, slug, sel, fmt, time_format)
     return ExportResponse(out.body, fmt, out.media_type, out.filename)
