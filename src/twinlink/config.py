@@ -233,6 +233,7 @@ def load_settings(config_file: str | None = None, **overrides: Any) -> Settings:
             f"TWINLINK_{'_'.join(str(x) for x in e['loc']).upper()}: {e['msg']}"
             for e in err.errors(include_url=False)
         ]
+        # from None: pydantic's error repeats the values, the secret key's among them.
         raise ConfigError("invalid settings:\n  " + "\n  ".join(lines)) from None
     except tomllib.TOMLDecodeError as err:
-        raise ConfigError(f"the settings file is not valid TOML: {err}") from None
+        raise ConfigError(f"the settings file is not valid TOML: {err}") from err

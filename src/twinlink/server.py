@@ -82,7 +82,7 @@ def listen(settings: Settings) -> socket.socket:
         raise ConfigError(
             f"cannot listen on {settings.host}:{settings.port}: {err.strerror}; choose another "
             "port with --port or TWINLINK_PORT (make demo PORT=8080)"
-        ) from None
+        ) from err
     if settings.mqtt_mode == "embedded" and settings.mqtt_port and not mqtt_port_free(settings):
         sock.close()
         raise ConfigError(

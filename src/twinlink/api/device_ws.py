@@ -55,7 +55,7 @@ async def post_samples(request: Request, device: ThisDevice) -> JSONAnswer:
     try:
         parsed = loads(body)  # integers exact: one beyond 64 bits is refused, not rounded
     except JsonTextError as err:
-        raise BatchError(f"the body is not JSON: {err}") from None
+        raise BatchError(f"the body is not JSON: {err}") from err
     ingest: IngestService = request.app.state.services.ingest
     return JSONAnswer((await ingest.ingest(device, parsed)).message())
 

@@ -115,17 +115,17 @@ async def _authenticate(websocket: WebSocket, auth: Authenticator) -> tuple[str,
 async def _first_message_token(websocket: WebSocket) -> str:
     try:
         frame = await asyncio.wait_for(websocket.receive(), AUTH_TIMEOUT_S)
-    except TimeoutError:
+    except TimeoutError as err:
         raise AuthError(
             f"no token: send 'Authorization: Bearer <token>' or an auth message "
             f"within {AUTH_TIMEOUT_S:g} s"
-        ) from None
+        ) from err
     if frame["type"] == "websocket.disconnect":
         raise _Gone
     try:
         return protocol.read_token(protocol.read_message(_payload(frame)))
     except LiveMessageError as err:
-        raise AuthError(str(err)) from None
+        raise AuthError(str(err)) from err
 
 
 async def _read(websocket: WebSocket, session: LiveSession, turn: asyncio.Lock) -> None:

@@ -29,7 +29,7 @@ class ExactJsonRequest(Request):
                 value = loads(await self.body())
             except JsonTextError as err:
                 # FastAPI turns any other exception of `json()` into a bare 400.
-                raise HTTPException(422, f"The body is not valid JSON: {err}") from None
+                raise HTTPException(422, f"The body is not valid JSON: {err}") from err
             found = first_big_int(value)
             if found is not None:
                 path, number = found

@@ -46,11 +46,11 @@ class Vault:
     def unseal(self, sealed: bytes) -> dict[str, Any]:
         try:
             value: dict[str, Any] = orjson.loads(self._fernet.decrypt(sealed))
-        except InvalidToken:
+        except InvalidToken as err:
             raise VaultError(
                 "the stored credentials cannot be decrypted with this server's secret key "
                 "(TWINLINK_SECRET_KEY or secret.key changed); set them again"
-            ) from None
+            ) from err
         return value
 
     def __repr__(self) -> str:  # never show the key

@@ -79,7 +79,7 @@ def send(
         if not isinstance(reason, str):
             raise
         # The server could not choose a device; it names the API's field, this names ours.
-        raise ApiCallError(f"{reason}; name one with --device NAME") from None
+        raise ApiCallError(f"{reason}; name one with --device NAME") from err
     if as_json:
         click.echo(_json(record))
     else:

@@ -28,7 +28,7 @@ def _auth_value(text: str) -> Any:
         try:
             return orjson.loads(text)
         except orjson.JSONDecodeError as err:
-            raise click.BadParameter(f"{text!r} is not valid JSON: {err}") from None
+            raise click.BadParameter(f"{text!r} is not valid JSON: {err}") from err
     return text
 
 

@@ -31,7 +31,7 @@ class _Group(HelpGroup):
         try:
             return super().invoke(ctx)
         except (ApiCallError, ConfigError) as err:
-            raise click.ClickException(str(err)) from None
+            raise click.ClickException(str(err)) from err
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

@@ -93,5 +93,5 @@ def _demo() -> Callable[[Settings, Path], None]:
         raise click.ClickException(
             f"the demo is not installed (no module {err.name}): "
             "pip install -e examples/ilmatar -e examples/demo (make demo does)"
-        ) from None
+        ) from err
     return serve_demo

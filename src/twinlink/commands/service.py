@@ -236,7 +236,7 @@ class CommandService:
         try:
             await self.record_result(session.device, _command_id(message), status, result, error)
         except NotFoundError as err:
-            raise ValueError(str(err)) from None
+            raise ValueError(str(err)) from err
         return None
 
     async def _on_connect(self, session: DeviceSession) -> None:

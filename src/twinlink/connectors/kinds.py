@@ -35,9 +35,9 @@ def connector_class(kind: str) -> type[Connector]:
     its package cannot be loaded."""
     try:
         return KINDS.get(kind)
-    except KeyError:
+    except KeyError as err:
         known = ", ".join(KINDS.names())
-        raise InvalidInputError(f"unknown connector kind {kind!r}; the kinds are {known}") from None
+        raise InvalidInputError(f"unknown connector kind {kind!r}; the kinds are {known}") from err
 
 
 def kinds_view() -> list[dict[str, Any]]:
@@ -67,13 +67,14 @@ def checked_config(kind: str, config: Any) -> BaseModel:
     try:
         model = connector_class(kind).Config
     except PluginUnavailable as err:
-        raise InvalidInputError(f"the {kind} connector is not available here: {err}") from None
+        raise InvalidInputError(f"the {kind} connector is not available here: {err}") from err
     try:
         return model.model_validate(config)
     except ValidationError as err:
         problems = "; ".join(
             f"{'.'.join(str(p) for p in e['loc']) or 'config'}: {e['msg']}" for e in err.errors()
         )
+        # from None: pydantic's error repeats the values, the connector's secrets among them.
         raise InvalidInputError(f"the {kind} connector's config is not valid: {problems}") from None
 
 

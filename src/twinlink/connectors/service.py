@@ -232,7 +232,7 @@ class ConnectorService:
             await connector.start()
         except (ConnectorError, InvalidInputError, PluginUnavailable, OSError) as err:
             self._start_failed(record, str(err))
-            raise InvalidInputError(f"connector {record.name!r} cannot start: {err}") from None
+            raise InvalidInputError(f"connector {record.name!r} cannot start: {err}") from err
         except Exception as err:  # a bug in the kind's code (a plug-in's) stops only this one
             log.exception("connector %s/%s failed to start", record.twin_slug, record.name)
             reason = f"{type(err).__name__}: {err}"
@@ -318,4 +318,4 @@ class ConnectorService:
         try:
             return self.vault.unseal(record.secret)
         except VaultError as err:
-            raise InvalidInputError(str(err)) from None
+            raise InvalidInputError(str(err)) from err

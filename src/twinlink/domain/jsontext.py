@@ -104,13 +104,13 @@ def loads(data: bytes | bytearray | memoryview | str) -> Any:
     raw = data.encode() if isinstance(data, str) else bytes(data)
     try:
         return _DECODER.decode(raw)
-    except RecursionError:  # msgspec's own guard, at about 1 000 levels
-        raise JsonTextError("the JSON text is nested too deeply (1 000 levels or more)") from None
+    except RecursionError as err:  # msgspec's own guard, at about 1 000 levels
+        raise JsonTextError("the JSON text is nested too deeply (1 000 levels or more)") from err
     except msgspec.ValidationError as err:  # a number no type can hold
         text = str(err)
         if text.startswith("Integer value out of range"):
-            raise JsonTextError(int64_problem(_longest_integer(raw))) from None
-        raise JsonTextError("a number is out of range (beyond 1.8e308)") from None
+            raise JsonTextError(int64_problem(_longest_integer(raw))) from err
+        raise JsonTextError("a number is out of range (beyond 1.8e308)") from err
     except msgspec.DecodeError as err:
         text = str(err)
         at = _AT_BYTE.search(text)
@@ -118,8 +118,8 @@ def loads(data: bytes | bytearray | memoryview | str) -> Any:
         if reason == "Input data was truncated":
             reason = "the JSON text ends too early (or holds an invalid \\u escape)"
         if at is None:
-            raise JsonTextError(reason) from None
-        raise JsonTextError(reason, *_position(raw, int(at.group(1)))) from None
+            raise JsonTextError(reason) from err
+        raise JsonTextError(reason, *_position(raw, int(at.group(1)))) from err
 
 
 def _longest_integer(raw: bytes) -> str:

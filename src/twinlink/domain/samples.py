@@ -191,8 +191,8 @@ def _read_time(raw: Any, scale: int) -> int | None:
     elif isinstance(raw, str):
         try:
             parsed = datetime.fromisoformat(raw.replace("Z", "+00:00"))
-        except ValueError:
-            raise ValueError(f"`time` {_show(raw)} is not an ISO 8601 time") from None
+        except ValueError as err:
+            raise ValueError(f"`time` {_show(raw)} is not an ISO 8601 time") from err
         if parsed.tzinfo is None:
             raise ValueError(f"`time` {_show(raw)} has no time zone (add Z for UTC)")
         # Integer arithmetic: a float timestamp loses microseconds after 2106.

@@ -49,8 +49,8 @@ class _Loader(_Base):  # type: ignore[misc]
             raise _IntTooLong(node)
         try:
             return int(super().construct_yaml_int(node))
-        except ValueError:  # Python reads at most 4 300 digits
-            raise _IntTooLong(node) from None
+        except ValueError as err:  # Python reads at most 4 300 digits
+            raise _IntTooLong(node) from err
 
 
 _Loader.add_constructor("tag:yaml.org,2002:int", _Loader.construct_yaml_int)
@@ -174,7 +174,7 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
             walk = _Walk(len(docs))
             try:
                 walk.record(node, ())
-            except _TooLarge:
+            except _TooLarge as err:
                 raise DocumentError(
                     "The document is too large or too deeply nested; nothing was stored.",
                     [
@@ -186,7 +186,7 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
                             document=len(docs),
                         )
                     ],
-                ) from None
+                ) from err
             if walk.twice:
                 raise DocumentError(
                     "A key is given twice in one mapping; nothing was stored.",
@@ -214,6 +214,7 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
             ],
         ) from err
     except RecursionError:
+        # from None: the cause is a thousand frames of the YAML composer, noise to any reader.
         raise DocumentError(
             "The document is too deeply nested; nothing was stored.",
             [Problem(f"more than {MAX_DEPTH} levels", document=len(docs))],
@@ -235,7 +236,7 @@ def _construct(loader: Any, node: yaml.Node, index: int) -> Any:
         raise DocumentError(
             "The DT document has problems; nothing was stored.",
             [Problem(int64_problem(err.node.value), line=line, column=column, document=index)],
-        ) from None
+        ) from err
 
 
 def dump_yaml(data: Any) -> str:

@@ -21,7 +21,7 @@ async def caller_of(auth: AuthService, token: str | None) -> Principal:
     except AuthError as err:
         raise GatewayProblem(
             401, f"{err}. Send a valid token as 'Authorization: Bearer <token>'."
-        ) from None
+        ) from err
 
 
 def bearer(scope: Scope) -> str | None:
@@ -45,9 +45,9 @@ async def resolve(
     try:
         twin, role = await gateway.twin_and_role(principal, slug)
     except ForbiddenError as err:
-        raise GatewayProblem(403, str(err)) from None
+        raise GatewayProblem(403, str(err)) from err
     except NotFoundError as err:
-        raise GatewayProblem(404, str(err)) from None
+        raise GatewayProblem(404, str(err)) from err
     if not has_role(principal, role, need):
         what = "reading through" if need == "viewer" else "changing anything through"
         raise GatewayProblem(403, f"{what} the services of {slug!r} needs the {need} role")

@@ -58,7 +58,7 @@ class ServiceAccounts:
         try:
             check_name(name)
         except ValueError as err:
-            raise InvalidInputError(str(err)) from None
+            raise InvalidInputError(str(err)) from err
         role = role or "viewer"
         if role not in ("viewer", "editor"):
             raise InvalidInputError("a service account's role is viewer or editor")

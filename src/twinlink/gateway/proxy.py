@@ -111,7 +111,7 @@ class GatewayApp:
         try:
             rest = paths.check_rest(route.rest)
         except paths.PathRefused as err:
-            raise GatewayProblem(400, f"refused: {err}") from None
+            raise GatewayProblem(400, f"refused: {err}") from err
         limit = int(service.settings.limits.max_body_mb * 2**20)
         sender = Sender(self.gateway.pool, scope, receive, route, service, rest, limit, ex)
         if sender.declared is not None and sender.declared > limit:

@@ -110,7 +110,7 @@ class Sender:
                 # A kept-alive connection the service closed meanwhile: try a fresh one.
                 if attempt == 0 and reused and not more and not conn.received_any:
                     continue
-                raise _failure(service, err) from None
+                raise _failure(service, err) from err
         self.ex.upstream_s = time.perf_counter() - started
         return conn, status, answer
 
@@ -119,7 +119,7 @@ class Sender:
         try:
             return await self.pool.connect(self.service.origin, timeout_s)
         except UpstreamError as err:
-            raise _failure(self.service, err) from None
+            raise _failure(self.service, err) from err
 
     async def _stream_rest(self, conn: _Connection, chunked: bool) -> None:
         while True:
@@ -159,7 +159,7 @@ class Sender:
             headers = response_headers(raw, service.base_url or "", self.route.prefix)
         except RedirectRefused as err:
             self.pool.discard(conn)
-            raise GatewayProblem(502, f"refused: {err}", outcome="redirect_refused") from None
+            raise GatewayProblem(502, f"refused: {err}", outcome="redirect_refused") from err
         ex.status, ex.outcome = status, "forwarded"
         whole = conn.whole_body()
         if whole is not None:  # the usual small answer: already here, one send
@@ -198,7 +198,7 @@ class Sender:
                 extra={"event": "gateway_broken", "service": self.service.name, "error": str(err)},
             )
             outcome = f"upstream_{err.stage}"
-            raise GatewayProblem(502, str(err), outcome=outcome, sent=True) from None
+            raise GatewayProblem(502, str(err), outcome=outcome, sent=True) from err
 
 
 def _framed(pieces: list[bytes]) -> list[bytes]:

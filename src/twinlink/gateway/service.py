@@ -104,7 +104,7 @@ class GatewayService:
         try:
             check_name(name)
         except ValueError as err:
-            raise InvalidInputError(str(err)) from None
+            raise InvalidInputError(str(err)) from err
         settings = _validated(body)
         if settings.base_url is None:
             raise InvalidInputError("a service added by API needs a `base_url`")
@@ -221,6 +221,7 @@ def _validated(body: dict[str, Any]) -> ServiceSettings:
     try:
         return ServiceSettings.model_validate(body)
     except ValueError as err:
+        # from None: pydantic's error repeats the values, the service's credentials among them.
         raise InvalidInputError(_first_error(err)) from None
 
 

@@ -53,7 +53,7 @@ async def sign_in(service: Service) -> int:
     try:
         return await ready(service.credentials)
     except RefreshError as err:
-        raise _problem(service, "the gateway could not sign in to the service", err) from None
+        raise _problem(service, "the gateway could not sign in to the service", err) from err
 
 
 async def renew(service: Service, refused_generation: int) -> None:
@@ -63,7 +63,7 @@ async def renew(service: Service, refused_generation: int) -> None:
     except RefreshError as err:
         raise _problem(
             service, "the service refused the gateway's credentials and renewing them failed", err
-        ) from None
+        ) from err
 
 
 def _problem(service: Service, what: str, err: RefreshError) -> GatewayProblem:

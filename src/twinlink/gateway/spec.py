@@ -56,8 +56,8 @@ class Tls(BaseModel):
         if value is not None:
             try:
                 ssl.create_default_context(cadata=value)
-            except (ssl.SSLError, ValueError):
-                raise ValueError("ca_pem is not a PEM certificate") from None
+            except (ssl.SSLError, ValueError) as err:
+                raise ValueError("ca_pem is not a PEM certificate") from err
         return value
 
     def context(self) -> ssl.SSLContext:

@@ -303,10 +303,10 @@ class Pool:
                 ),
                 timeout_s,
             )
-        except TimeoutError:
-            raise UpstreamError("connect", f"no connection within {timeout_s:g} s") from None
+        except TimeoutError as err:
+            raise UpstreamError("connect", f"no connection within {timeout_s:g} s") from err
         except (OSError, ssl.SSLError) as err:
-            raise UpstreamError("connect", err.strerror or str(err)) from None
+            raise UpstreamError("connect", err.strerror or str(err)) from err
         self.opened += 1
         return conn, False
 

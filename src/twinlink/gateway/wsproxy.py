@@ -84,7 +84,7 @@ async def _open(
     try:
         rest = paths.check_rest(route.rest)
     except paths.PathRefused as err:
-        raise GatewayProblem(400, f"refused: {err}") from None
+        raise GatewayProblem(400, f"refused: {err}") from err
     offered = [
         p.strip()
         for name, value in scope["headers"]
@@ -119,13 +119,13 @@ async def _open(
                 502,
                 f"the service {service.name!r} refused the WebSocket with {status}",
                 outcome="upstream_refused",
-            ) from None
+            ) from err
         except (OSError, TimeoutError, InvalidHandshake) as err:
             raise GatewayProblem(
                 502,
                 f"the service {service.name!r} could not be reached: {type(err).__name__}",
                 outcome="upstream_connect",
-            ) from None
+            ) from err
     raise GatewayProblem(502, "unreachable")  # pragma: no cover (the loop returns or raises)
 
 

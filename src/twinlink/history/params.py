@@ -91,7 +91,7 @@ def _parse_iso(text: str, name: str) -> int:
     try:
         parsed = datetime.fromisoformat(base + (zone or "").replace("z", "Z"))
     except ValueError as err:
-        raise QueryError(f"`{name}` {text!r} is not a valid time ({err})") from None
+        raise QueryError(f"`{name}` {text!r} is not a valid time ({err})") from err
     if parsed.tzinfo is None:
         parsed = parsed.replace(tzinfo=UTC)
     seconds = calendar.timegm(parsed.utctimetuple())

@@ -76,7 +76,7 @@ def read_message(raw: str | bytes) -> dict[str, Any]:
     try:
         message = loads(raw)  # integers exact: one beyond 64 bits is refused, not rounded
     except JsonTextError as err:
-        raise LiveMessageError(f"the message is not JSON: {err}") from None
+        raise LiveMessageError(f"the message is not JSON: {err}") from err
     if not isinstance(message, dict):
         raise LiveMessageError('a message is a JSON object with an "op"')
     op = message.get("op")

@@ -113,7 +113,7 @@ class LiveSession:
                 self.principal, request.twin, "viewer", "the live streams"
             )
         except (NotFoundError, ForbiddenError) as err:
-            raise LiveMessageError(str(err), "subscribe", request.id) from None
+            raise LiveMessageError(str(err), "subscribe", request.id) from err
         sub = Subscription(
             request.id, twin.id, twin.slug, request.stream, request.signals, request.max_rate
         )

@@ -18,7 +18,7 @@ def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSp
     try:
         spec = ProcessorSpec.model_validate(body)
     except ValidationError as err:
-        raise InvalidInputError(first_errors(err)) from None
+        raise InvalidInputError(first_errors(err)) from err
     entry = catalog.get(spec.blueprint)
     if entry is None:
         raise InvalidInputError(f"no blueprint {spec.blueprint!r}; see /api/v1/blueprints")
@@ -27,9 +27,9 @@ def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSp
     try:
         entry.cls.check(entry.cls.Params.model_validate(spec.params))
     except ValidationError as err:
-        raise InvalidInputError("params: " + first_errors(err)) from None
+        raise InvalidInputError("params: " + first_errors(err)) from err
     except BlueprintError as err:
-        raise InvalidInputError(f"params: {err}") from None
+        raise InvalidInputError(f"params: {err}") from err
     if spec.output_stream == spec.source:
         raise InvalidInputError("a processor cannot write the stream it reads")
     return spec

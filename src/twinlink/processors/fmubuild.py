@@ -76,8 +76,8 @@ def read_model_info(source_dir: Path) -> ModelInfo:
     path = source_dir / "modelDescription.xml"
     try:
         root = ElementTree.parse(path).getroot()
-    except FileNotFoundError:
-        raise FmuBuildError(f"{path} does not exist") from None
+    except FileNotFoundError as err:
+        raise FmuBuildError(f"{path} does not exist") from err
     except (OSError, ElementTree.ParseError) as exc:
         raise FmuBuildError(f"cannot read {path}: {exc}") from exc
     if root.tag != "fmiModelDescription":

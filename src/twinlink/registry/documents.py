@@ -65,12 +65,12 @@ def _json_documents(body: bytes, text: str) -> list[SourceDocument]:
             if _readable_json(body)
             else "The document is not valid JSON; nothing was stored.",
             [Problem(err.reason, line=err.line, column=err.column)],
-        ) from None
-    except RecursionError:  # msgspec stops at Python's recursion limit (about 1 000 levels)
+        ) from err
+    except RecursionError as err:  # msgspec stops at Python's recursion limit (about 1 000 levels)
         raise DocumentError(
             "The document is too deeply nested; nothing was stored.",
             [Problem(f"more than {MAX_DEPTH} levels")],
-        ) from None
+        ) from err
     if isinstance(data, dict):
         try:
             # JSON is YAML: parsing it again gives the line and column of every value.

@@ -31,7 +31,7 @@ def read_certificate(path: Path, field: str = "certificate") -> x509.Certificate
     except ValueError as err:
         raise CertificateFileError(
             f"{field} {path} is not a PEM or DER certificate: {err}"
-        ) from None
+        ) from err
 
 
 def read_private_key(path: Path, password: str | None) -> PrivateKeyTypes:
@@ -45,7 +45,7 @@ def read_private_key(path: Path, password: str | None) -> PrivateKeyTypes:
     except (ValueError, TypeError) as err:
         raise CertificateFileError(
             f"private_key {path} cannot be read (PEM or DER; is private_key_password right?): {err}"
-        ) from None
+        ) from err
 
 
 def read_key_pair(
@@ -89,7 +89,7 @@ def _read(path: Path, field: str) -> bytes:
     try:
         return path.read_bytes()
     except OSError as err:
-        raise CertificateFileError(f"{field} {path}: {err.strerror or err}") from None
+        raise CertificateFileError(f"{field} {path}: {err.strerror or err}") from err
 
 
 def _public_der(key: PublicKeyTypes) -> bytes:

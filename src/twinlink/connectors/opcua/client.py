@@ -102,7 +102,7 @@ def _read_identity(
     try:
         cert, key = read_key_pair(cert_path, key_path, password)
     except CertificateFileError as err:
-        raise ConnectorError(str(err)) from None
+        raise ConnectorError(str(err)) from err
     key_pem = key.private_bytes(
         serialization.Encoding.PEM,
         serialization.PrivateFormat.PKCS8,
@@ -161,7 +161,7 @@ def server_certificate_der(config: OpcUaConfig) -> bytes | None:
     try:
         cert = read_certificate(config.server_certificate, "server_certificate")
     except CertificateFileError as err:
-        raise ConnectorError(str(err)) from None
+        raise ConnectorError(str(err)) from err
     return cert.public_bytes(serialization.Encoding.DER)
 
 

@@ -46,7 +46,7 @@ def parse_node_ref(text: str) -> NodeRef:
         try:
             path = ua.RelativePath.from_string(text)
         except Exception as err:
-            raise ValueError(f"browse path {text!r} cannot be read: {err}") from None
+            raise ValueError(f"browse path {text!r} cannot be read: {err}") from err
         if not path.Elements or any(
             not (e.TargetName and e.TargetName.Name) for e in path.Elements
         ):
@@ -54,11 +54,11 @@ def parse_node_ref(text: str) -> NodeRef:
         return NodeRef(text, browse_path=text)
     try:
         node_id = ua.NodeId.from_string(text)
-    except Exception:
+    except Exception as err:
         raise ValueError(
             f"{text!r} is neither a node id (ns=2;s=Name, i=2258, nsu=<uri>;s=Name) nor a "
             "browse path starting with / (/2:Ilmatar/2:Bridge/2:Position)"
-        ) from None
+        ) from err
     uri = node_id.NamespaceUri if isinstance(node_id, ua.ExpandedNodeId) else None
     if uri is not None:
         node_id = ua.NodeId(node_id.Identifier, node_id.NamespaceIndex, node_id.NodeIdType)

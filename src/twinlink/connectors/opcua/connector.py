@@ -245,8 +245,8 @@ class OpcUaConnector(Connector):
             waited = 0.0 if busy is None else max(0.0, busy - loop.time())
             try:
                 await read_server_state(client, self.settings.request_timeout_s + waited)
-            except TimeoutError:
-                raise SessionLost(self._unanswered(waited)) from None
+            except TimeoutError as err:
+                raise SessionLost(self._unanswered(waited)) from err
 
     def _unanswered(self, waited: float) -> str:
         text = (

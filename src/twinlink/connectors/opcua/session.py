@@ -63,8 +63,8 @@ class NodeResolver:
         if ref.browse_path is not None:
             try:
                 node = await self.client.nodes.objects.get_child(ref.browse_path)
-            except BadNoMatch:
-                raise CommandFailed(f"the server has no node at {text}") from None
+            except BadNoMatch as err:
+                raise CommandFailed(f"the server has no node at {text}") from err
             return node.nodeid
         assert ref.node_id is not None
         if ref.namespace_uri is None:
@@ -207,11 +207,11 @@ class CommandRunner:
             return await self._call(mapping, args, deadline)
         except UaStatusCodeError as err:
             raise CommandFailed(f"the server refused it: {status_name(err)}") from err
-        except TimeoutError:  # a lookup or a write: asyncua's per-request timeout
+        except TimeoutError as err:  # a lookup or a write: asyncua's per-request timeout
             limit = self.config.request_timeout_s
             raise CommandFailed(
                 f"the server did not answer a request within {limit:g} s (request_timeout_s)"
-            ) from None
+            ) from err
 
     async def _write(self, mapping: WriteCommand, args: dict[str, Any]) -> Any:
         if mapping.arg not in args:
@@ -223,7 +223,7 @@ class CommandRunner:
         try:
             variant = variant_for(args[mapping.arg], vtype)
         except ValueRefused as err:
-            raise CommandFailed(f"argument {mapping.arg!r}: {err}") from None
+            raise CommandFailed(f"argument {mapping.arg!r}: {err}") from err
         await node.write_value(ua.DataValue(variant))
         return {"node": mapping.node, "value": json_value(variant.Value)}
 
@@ -247,7 +247,7 @@ class CommandRunner:
             try:
                 variants.append(variant_for(args[name], vtype))
             except ValueRefused as err:
-                raise CommandFailed(f"argument {name!r}: {err}") from None
+                raise CommandFailed(f"argument {name!r}: {err}") from err
         request = ua.CallMethodRequest(ObjectId=parent, MethodId=method_id, InputArguments=variants)
         result = await self._send_call(request, mapping, deadline)
         return {"outputs": [json_value(value.Value) for value in result.OutputArguments or []]}
@@ -268,11 +268,11 @@ class CommandRunner:
         with self._in_flight(deadline):
             try:
                 data = await send_request(self.client, call, limit)
-            except TimeoutError:
+            except TimeoutError as err:
                 raise CommandFailed(
                     f"the server did not answer the call of {mapping.method} within "
                     f"{limit:.3g} s, {why}"
-                ) from None
+                ) from err
         response: ua.CallResponse = struct_from_binary(ua.CallResponse, data)
         response.ResponseHeader.ServiceResult.check()
         result: ua.CallMethodResult = response.Results[0]

@@ -129,8 +129,8 @@ def _other_variant(value: Any, vtype: ua.VariantType) -> ua.Variant:
     if vtype == ua.VariantType.DateTime and isinstance(value, str):
         try:
             stamp = datetime.fromisoformat(value.replace("Z", "+00:00"))
-        except ValueError:
-            raise ValueRefused(f"{_show(value)} is not an ISO 8601 time") from None
+        except ValueError as err:
+            raise ValueRefused(f"{_show(value)} is not an ISO 8601 time") from err
         return ua.Variant(stamp, vtype)
     if vtype in (ua.VariantType.Boolean, ua.VariantType.String, ua.VariantType.LocalizedText):
         expected = "a bool" if vtype == ua.VariantType.Boolean else "a string"

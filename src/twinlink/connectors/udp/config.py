@@ -103,8 +103,8 @@ class UdpConfig(BaseModel):
     def _host(cls, host: str) -> str:
         try:
             ipaddress.ip_address(host)
-        except ValueError:
-            raise ValueError(f"{host!r} is not an IP address (e.g. 127.0.0.1 or 0.0.0.0)") from None
+        except ValueError as err:
+            raise ValueError(f"{host!r} is not an IP address (e.g. 127.0.0.1 or 0.0.0.0)") from err
         return host
 
     @field_validator("stream")
@@ -120,8 +120,8 @@ class UdpConfig(BaseModel):
         for sender in senders:
             try:
                 ipaddress.ip_network(sender, strict=False)
-            except ValueError:
-                raise ValueError(f"{sender!r} is not an IP address or network") from None
+            except ValueError as err:
+                raise ValueError(f"{sender!r} is not an IP address or network") from err
         return senders
 
     @field_validator("channels")

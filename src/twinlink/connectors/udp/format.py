@@ -258,7 +258,7 @@ class JsonDecoder:
         try:
             body = loads(data)  # integers exact: the platform rejects one beyond 64 bits
         except JsonTextError as err:
-            raise DecodeError("bad_json", f"not JSON ({err})") from None
+            raise DecodeError("bad_json", f"not JSON ({err})") from err
         if not isinstance(body, dict):
             raise DecodeError("bad_json", "a datagram holds one JSON object")
         if "samples" in body:
@@ -267,7 +267,7 @@ class JsonDecoder:
         try:
             return [self.sample(body, raw_time, arrival_ns, None)]
         except ValueError as err:
-            raise DecodeError("bad_time", str(err)) from None
+            raise DecodeError("bad_time", str(err)) from err
 
     def batch(self, body: dict[str, Any], arrival_ns: int) -> list[Sample]:
         rows, unit = body["samples"], body.get("time_unit")

@@ -24,9 +24,9 @@ def method_class(method: str) -> type[Credentials[Any]]:
     it) if there is none here."""
     try:
         return METHODS.get(method)
-    except KeyError:
+    except KeyError as err:
         known = ", ".join(METHODS.names())
-        raise _invalid(f"unknown method {method!r}; the methods are {known}") from None
+        raise _invalid(f"unknown method {method!r}; the methods are {known}") from err
     except PluginUnavailable as err:
         raise _invalid(f"the credential method {method!r} is not available here: {err}") from err
 

@@ -96,6 +96,7 @@ class TokenCredentials(Credentials[C]):
             async with httpx.AsyncClient(timeout=LOGIN_TIMEOUT_S, follow_redirects=False) as c:
                 return await c.post(url, **kwargs)
         except httpx.HTTPError as err:
+            # from None: the cause holds the login request, the service's credentials in it.
             raise RefreshError(
                 f"the login endpoint {url} could not be reached: {type(err).__name__}"
             ) from None

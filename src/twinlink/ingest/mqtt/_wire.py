@@ -98,8 +98,8 @@ class Cursor:
         raw = self.binary()
         try:
             text = raw.decode()
-        except UnicodeDecodeError:
-            raise MalformedPacket("a string is not UTF-8") from None
+        except UnicodeDecodeError as err:
+            raise MalformedPacket("a string is not UTF-8") from err
         if "\x00" in text:
             raise MalformedPacket("a string holds U+0000")
         return text

@@ -44,7 +44,7 @@ class BrokerAddress:
         try:
             port = parts.port or (8883 if tls else 1883)
         except ValueError as err:
-            raise BrokerError(f"TWINLINK_MQTT_BROKER_URL {url!r}: {err}") from None
+            raise BrokerError(f"TWINLINK_MQTT_BROKER_URL {url!r}: {err}") from err
         return cls(parts.hostname, port, tls)
 
     def __str__(self) -> str:

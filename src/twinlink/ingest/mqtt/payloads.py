@@ -44,7 +44,7 @@ def parse_json(payload: bytes) -> Any:
     try:
         return loads(payload)
     except JsonTextError as err:
-        raise BatchError(f"the payload is not JSON: {err}") from None
+        raise BatchError(f"the payload is not JSON: {err}") from err
 
 
 def _refuse_big_ints(body: Any, what: str) -> None:

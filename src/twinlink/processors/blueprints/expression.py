@@ -100,8 +100,8 @@ class _Compiler:
             raise self.fail(node, f"{describe(node)} is not allowed: only numbers are")
         try:
             number = _float(float(value))
-        except OverflowError:
-            raise self.fail(node, "the number is too large") from None
+        except OverflowError as err:
+            raise self.fail(node, "the number is too large") from err
         return lambda env: number
 
     def name(self, node: ast.Name, depth: int) -> Fn:
@@ -192,11 +192,11 @@ def compile_expression(text: str, signals: set[str] | None = None) -> tuple[Fn, 
     try:
         tree = ast.parse(text.strip(), mode="eval")
     except SyntaxError as e:
-        raise BlueprintError(f"syntax error at column {(e.offset or 1) - 1}: {e.msg}") from None
+        raise BlueprintError(f"syntax error at column {(e.offset or 1) - 1}: {e.msg}") from e
     except ValueError as e:  # a null byte, on Python < 3.12
-        raise BlueprintError(f"invalid expression: {e}") from None
-    except (RecursionError, MemoryError):
-        raise BlueprintError(f"the expression is nested more than {MAX_DEPTH} deep") from None
+        raise BlueprintError(f"invalid expression: {e}") from e
+    except (RecursionError, MemoryError) as err:
+        raise BlueprintError(f"the expression is nested more than {MAX_DEPTH} deep") from err
     compiler = _Compiler(text.strip(), signals)
     return compiler.compile(tree.body), list(compiler.names)
 
@@ -231,7 +231,7 @@ def compile_outputs(params: ExpressionParams) -> tuple[dict[str, Fn], list[str]]
         try:
             compiled[output], used = compile_expression(text, allowed)
         except BlueprintError as e:
-            raise BlueprintError(f"output {output!r}: {e}") from None
+            raise BlueprintError(f"output {output!r}: {e}") from e
         names.update(dict.fromkeys(used))
     return compiled, list(names)
 

@@ -60,8 +60,8 @@ class HistoryReader:
             future = loop.run_in_executor(
                 self._executor, self._call, fn, budget or ReadBudget(3600.0, 2**62)
             )
-        except RuntimeError:  # the executor is shut down
-            raise ReadCancelledError("the server is shutting down") from None
+        except RuntimeError as err:  # the executor is shut down
+            raise ReadCancelledError("the server is shutting down") from err
         return await future
 
     def _call(self, fn: Callable[[sqlite3.Connection], T], budget: ReadBudget) -> T:
@@ -102,8 +102,8 @@ class HistoryReader:
             while True:
                 try:
                     future = loop.run_in_executor(self._executor, steps.next)
-                except RuntimeError:  # the executor is shut down
-                    raise ReadCancelledError("the server is shutting down") from None
+                except RuntimeError as err:  # the executor is shut down
+                    raise ReadCancelledError("the server is shutting down") from err
                 item = await future
                 if not item:
                     return
@@ -167,7 +167,7 @@ def _in_transaction(
         over = budget.explain(err)
         if over is None:
             raise
-        raise over from None
+        raise over from err
     finally:
         conn.execute("ROLLBACK")
 
@@ -210,7 +210,7 @@ class _Steps(Generic[T]):
                     over = self._budget.explain(err)
                     if over is None:
                         raise
-                    raise over from None
+                    raise over from err
             finally:
                 self._reader._step_ended(self._budget)
 
