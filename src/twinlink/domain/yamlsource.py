@@ -169,50 +169,10 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
     try:
         while loader.check_node():
             node = loader.get_node()
-            if node is None:
-                continue
-            walk = _Walk(len(docs))
-            try:
-                walk.record(node, ())
-            except _TooLarge as err:
-                raise DocumentError(
-                    "The document is too large or too deeply nested; nothing was stored.",
-                    [
-                        Problem(
-                            f"more than {MAX_VALUES} values or {MAX_DEPTH} levels "
-                            "(YAML aliases expand to copies)",
-                            line=node.start_mark.line + 1,
-                            column=1,
-                            document=len(docs),
-                        )
-                    ],
-                ) from err
-            if walk.twice:
-                raise DocumentError(
-                    "A key is given twice in one mapping; nothing was stored.",
-                    list(walk.twice.values()),
-                )
-            data = _construct(loader, node, len(docs))
-            docs.append(SourceDocument(data=data, marks=walk.marks, index=len(docs)))
+            if node is not None:
+                docs.append(_document(loader, node, len(docs)))
     except yaml.MarkedYAMLError as err:
-        mark = err.problem_mark or err.context_mark
-        reason = " ".join(x for x in (err.context, err.problem) if x) or "malformed YAML"
-        # PyYAML 6.0.4 and later stop deep nesting in the scanner; older ones recurse
-        # until RecursionError below. Either way the user reads the same headline.
-        deep = "nesting depth" in reason
-        raise DocumentError(
-            "The document is too deeply nested; nothing was stored."
-            if deep
-            else "The document is not valid YAML; nothing was stored.",
-            [
-                Problem(
-                    message=reason,
-                    line=mark.line + 1 if mark else None,
-                    column=mark.column + 1 if mark else None,
-                    document=len(docs),
-                )
-            ],
-        ) from err
+        raise _syntax_error(err, len(docs)) from err
     except RecursionError:
         # from None: the cause is a thousand frames of the YAML composer, noise to any reader.
         raise DocumentError(
@@ -226,6 +186,56 @@ def parse_yaml_stream(text: str) -> list[SourceDocument]:
     finally:
         loader.dispose()
     return docs
+
+
+def _document(loader: Any, node: yaml.Node, index: int) -> SourceDocument:
+    """The stream's document number `index`, composed as `node`: walked first (its size,
+    keys given twice, the lines of its values), then built."""
+    walk = _Walk(index)
+    try:
+        walk.record(node, ())
+    except _TooLarge as err:
+        raise DocumentError(
+            "The document is too large or too deeply nested; nothing was stored.",
+            [
+                Problem(
+                    f"more than {MAX_VALUES} values or {MAX_DEPTH} levels "
+                    "(YAML aliases expand to copies)",
+                    line=node.start_mark.line + 1,
+                    column=1,
+                    document=index,
+                )
+            ],
+        ) from err
+    if walk.twice:
+        raise DocumentError(
+            "A key is given twice in one mapping; nothing was stored.",
+            list(walk.twice.values()),
+        )
+    data = _construct(loader, node, index)
+    return SourceDocument(data=data, marks=walk.marks, index=index)
+
+
+def _syntax_error(err: yaml.MarkedYAMLError, index: int) -> DocumentError:
+    """The problem PyYAML found in document number `index`, with its line and column."""
+    mark = err.problem_mark or err.context_mark
+    reason = " ".join(x for x in (err.context, err.problem) if x) or "malformed YAML"
+    # PyYAML 6.0.4 and later stop deep nesting in the scanner; older ones recurse
+    # until RecursionError. Either way the user reads the same headline.
+    deep = "nesting depth" in reason
+    return DocumentError(
+        "The document is too deeply nested; nothing was stored."
+        if deep
+        else "The document is not valid YAML; nothing was stored.",
+        [
+            Problem(
+                message=reason,
+                line=mark.line + 1 if mark else None,
+                column=mark.column + 1 if mark else None,
+                document=index,
+            )
+        ],
+    )
 
 
 def _construct(loader: Any, node: yaml.Node, index: int) -> Any:
