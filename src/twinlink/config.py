@@ -11,8 +11,9 @@ import os
 import tomllib
 from pathlib import Path
 from typing import Any, Literal
+from urllib.parse import urlsplit
 
-from pydantic import Field, SecretStr, ValidationError
+from pydantic import Field, SecretStr, ValidationError, field_validator
 from pydantic_settings import (
     BaseSettings,
     PydanticBaseSettingsSource,
@@ -196,6 +197,23 @@ class Settings(BaseSettings):
         "[the package's twinlink/web/app, written by `npm run build` in ui/].",
     )
 
+    @field_validator("mqtt_broker_url")
+    @classmethod
+    def _broker_url(cls, url: str) -> str:
+        """A broker URL without credentials and with a valid port. The message never repeats
+        the URL: it may hold a password."""
+        parts = urlsplit(url)
+        if parts.username is not None or parts.password is not None:
+            raise ValueError(
+                "the URL holds credentials: give them as TWINLINK_MQTT_USERNAME and "
+                "TWINLINK_MQTT_PASSWORD instead (a URL ends up in logs and error messages)"
+            )
+        try:
+            parts.port  # noqa: B018 (urlsplit checks the port when it is read)
+        except ValueError as err:
+            raise ValueError(f"the port is not valid ({err}); use mqtt://host:port") from err
+        return url
+
     @classmethod
     def settings_customise_sources(
         cls,
@@ -230,7 +248,8 @@ def load_settings(config_file: str | None = None, **overrides: Any) -> Settings:
         return Settings(**clean)
     except ValidationError as err:
         lines = [
-            f"TWINLINK_{'_'.join(str(x) for x in e['loc']).upper()}: {e['msg']}"
+            f"TWINLINK_{'_'.join(str(x) for x in e['loc']).upper()}: "
+            + e["msg"].removeprefix("Value error, ")  # what a validator of ours says
             for e in err.errors(include_url=False)
         ]
         # from None: pydantic's error repeats the values, the secret key's among them.

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from twinlink.config import Settings, load_settings
+from twinlink.config import ConfigError, Settings, load_settings
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "config.md"
 
@@ -31,6 +31,32 @@ def test_unknown_setting_is_an_error(tmp_path: Path, monkeypatch: pytest.MonkeyP
     monkeypatch.setenv("TWINLINK_CONFIG", str(toml))
     with pytest.raises(ValueError, match="prot"):
         Settings()
+
+
+@pytest.mark.parametrize(
+    ("url", "says"),
+    [
+        ("mqtt://platform:s3cret@broker.example.org:1883", "TWINLINK_MQTT_PASSWORD instead"),
+        ("mqtts://:s3cret@broker.example.org", "TWINLINK_MQTT_PASSWORD instead"),
+        ("mqtt://platform:s3cret@broker.example.org:99999", "TWINLINK_MQTT_PASSWORD instead"),
+        ("mqtt://broker.example.org:99999", "the port is not valid"),
+    ],
+)
+def test_a_broker_url_with_credentials_or_a_bad_port_is_refused_without_repeating_it(
+    url: str, says: str
+) -> None:
+    with pytest.raises(ConfigError) as refused:
+        load_settings(None, mqtt_broker_url=url)
+    message = str(refused.value)
+    assert "TWINLINK_MQTT_BROKER_URL: " in message and says in message
+    assert "Value error" not in message
+    assert "s3cret" not in message and url not in message
+
+
+def test_a_broker_url_without_credentials_is_taken() -> None:
+    assert load_settings(None, mqtt_broker_url="mqtts://broker.example.org").mqtt_broker_url == (
+        "mqtts://broker.example.org"
+    )
 
 
 def test_secrets_do_not_show_in_repr(monkeypatch: pytest.MonkeyPatch) -> None:

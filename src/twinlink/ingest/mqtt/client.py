@@ -38,13 +38,14 @@ class BrokerAddress:
     def parse(cls, url: str) -> BrokerAddress:
         """`mqtt://host:port` or `mqtts://host:port` (ports 1883 and 8883 by default)."""
         parts = urlsplit(url)
+        # The messages name the host, never the whole URL: it may hold a password.
         if parts.scheme not in ("mqtt", "mqtts") or not parts.hostname:
-            raise BrokerError(f"TWINLINK_MQTT_BROKER_URL {url!r}: use mqtt://host:port")
+            raise BrokerError("TWINLINK_MQTT_BROKER_URL: use mqtt://host:port or mqtts://host:port")
         tls = parts.scheme == "mqtts"
         try:
             port = parts.port or (8883 if tls else 1883)
         except ValueError as err:
-            raise BrokerError(f"TWINLINK_MQTT_BROKER_URL {url!r}: {err}") from err
+            raise BrokerError(f"TWINLINK_MQTT_BROKER_URL ({parts.hostname}): {err}") from err
         return cls(parts.hostname, port, tls)
 
     def __str__(self) -> str:
