@@ -336,23 +336,23 @@ def _lifespan(
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         created = await start_services(services, settings)
-        if created is not None and on_bootstrap is not None:
-            on_bootstrap(created)
         cleanup = None
-        if on_ready is not None:
-            # on_ready may return (or resolve to) a coroutine function run at shutdown.
-            result = on_ready(services)
-            if hasattr(result, "__await__"):
-                result = await result
-            if callable(result):
-                cleanup = result
-        # What was made while starting lives as long as the server: keep it out of the
-        # collector's scans, which cost the hot paths (orjson.loads of a device batch took
-        # 2.6 us a sample with a server-sized heap, 1.1 us frozen; bench/processors.py).
-        gc.freeze()
-        gc.set_threshold(*GC_THRESHOLDS)
-        log.info("ready", extra={"event": "ready", "url": settings.base_url})
-        try:
+        try:  # from here on, whatever fails stops what started (the demo's devices too)
+            if created is not None and on_bootstrap is not None:
+                on_bootstrap(created)
+            if on_ready is not None:
+                # on_ready may return (or resolve to) a coroutine function run at shutdown.
+                result = on_ready(services)
+                if hasattr(result, "__await__"):
+                    result = await result
+                if callable(result):
+                    cleanup = result
+            # What was made while starting lives as long as the server: keep it out of the
+            # collector's scans, which cost the hot paths (orjson.loads of a device batch took
+            # 2.6 us a sample with a server-sized heap, 1.1 us frozen; bench/processors.py).
+            gc.freeze()
+            gc.set_threshold(*GC_THRESHOLDS)
+            log.info("ready", extra={"event": "ready", "url": settings.base_url})
             yield
         finally:
             if cleanup is not None:

@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 
-from twinlink.app import Services, build_services, start_services, stop_services
+from twinlink.app import Services, build_services, create_app, start_services, stop_services
 from twinlink.config import Settings
 from twinlink.ingest.mqtt.listener import ListenerError
 
@@ -89,3 +89,20 @@ async def test_the_starts_error_is_raised_when_stopping_another_fails(
     [record] = [r for r in caplog.records if r.levelno == logging.ERROR]
     assert record.getMessage() == "stopping after a failed start"
     assert record.exc_info is not None and "disk is gone" in str(record.exc_info[1])
+
+
+async def test_the_app_stops_its_services_when_its_ready_hook_fails(tmp_path: Path) -> None:
+    # `twinlink demo` starts its devices in on_ready: one that fails must not leave the
+    # platform's services running behind the error
+    def ready(services: Services) -> None:
+        raise RuntimeError("the demo's rig could not start")
+
+    settings = Settings(data_dir=tmp_path, mqtt_host="127.0.0.1", mqtt_port=0)
+    app = create_app(settings, on_ready=ready)
+    before_tasks, before_threads = running()
+    with pytest.raises(RuntimeError, match="rig could not start"):
+        async with app.router.lifespan_context(app):
+            pass
+    tasks, threads = running()
+    assert tasks - before_tasks == set()
+    assert threads - before_threads == set()

@@ -230,11 +230,12 @@ def test_integer_values_past_2_53_come_back_exact(server: Server) -> None:
         apply(admin, twin_doc(f"urn:{slug}", name="Clock", slug=slug))
     big = 1682921346513461498  # float64 makes it 1.6829213465134615e+18
     values = [big + i % 7 - 3 for i in range(50)]
-    rows = [{"time": T0 + i * S, "values": {"t": v}} for i, v in enumerate(values)]
+    start = T0 // HOUR * HOUR  # all 50 seconds in the one bucket the aggregate reads
+    rows = [{"time": start + i * S, "values": {"t": v}} for i, v in enumerate(values)]
     post_batch(server, add_device(server, slug), 1, rows)
     with server.admin as admin:
         base = f"/api/v1/twins/{slug}/streams/telemetry"
-        params = {"bucket": "1h", "fn": "min,max,first,last,sum", "start": T0}
+        params = {"bucket": "1h", "fn": "min,max,first,last,sum", "start": start}
         agg = json.loads(admin.get(f"{base}/aggregate", params=params).content)  # big ints
         down = orjson.loads(admin.get(f"{base}/downsample", params={"points": 10}).content)
     assert agg["rows"][0]["values"]["t"] == {
