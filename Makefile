@@ -60,6 +60,9 @@ test: $(STAMP) $(UI_BUILT)
 	@# chromium: the web app's end-to-end test drives it; mosquitto: the MQTT tests' broker
 	@# and clients (external mode, mosquitto_pub/sub against the embedded listener)
 	@scripts/ensure-packages.sh chromium mosquitto mosquitto-clients
+	@# Apache Kafka's jars (Maven Central, cached in .cache/kafka): the Kafka bus tests' broker
+	@scripts/ensure-packages.sh openjdk-17-jre-headless maven
+	@scripts/ensure-kafka.sh >/dev/null
 	@# The layering first: a broken import contract fails in a second, before 10 minutes of tests.
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest tests
