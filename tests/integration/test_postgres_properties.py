@@ -1,0 +1,17 @@
+"""The property service tests (tests/unit/test_property_service.py) on PostgreSQL, against a
+real server (_postgres.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.integration._postgres import postgres_cluster as postgres_cluster
+from tests.integration._postgres import postgres_dsn as postgres_dsn
+from tests.integration._postgres import rerun_on_postgres
+from tests.integration._postgres import stores as stores
+from tests.unit import test_property_service
+
+rerun_on_postgres(test_property_service, globals())
+
+# The cluster starts before the module's first test, which the hygiene check then counts.
+pytestmark = [pytest.mark.integration, pytest.mark.usefixtures("postgres_cluster")]
