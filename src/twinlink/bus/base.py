@@ -1,4 +1,5 @@
-"""The bus interface. The in-process `MemoryBus` implements it; a Kafka bus will too.
+"""The bus interface. The in-process `MemoryBus` implements it, and `KafkaBus` (bus/kafka/)
+across nodes.
 
 Subjects are dotted names: `samples.{twin_id}.{stream}` carries `SampleBatch`es (a batch, not a
 sample, is the unit), `commands.{twin_id}` and `properties.{twin_id}` carry command and property
