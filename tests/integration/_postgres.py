@@ -39,9 +39,9 @@ from tests.unit._storage import Stores, opened
 from twinlink.store.history import HistoryStore
 from twinlink.store.postgres.commands import PostgresCommands
 from twinlink.store.postgres.db import PostgresDatabase
+from twinlink.store.postgres.history import PostgresHistory
 from twinlink.store.postgres.properties import PostgresProperties
 from twinlink.store.sqlite import SqliteStore
-from twinlink.store.sqlite.history import SqliteHistory
 
 SQLITE_ONLY = frozenset({"sqlite_history"})  # fixtures of tests of SQLite's own workings
 START_S = 60.0  # a cold initdb and start on a busy 2-core machine take a few seconds
@@ -174,16 +174,17 @@ class PostgresBackend:
     async def stores(self, folder: Path) -> AsyncIterator[Stores]:
         db = PostgresDatabase(self.dsn)
         stores = Stores(
-            SqliteStore(folder / "data"), SqliteHistory(folder / "data", "normal"),
-            PostgresCommands(db), PostgresProperties(db),
+            SqliteStore(folder / "data"), PostgresHistory(db), PostgresCommands(db),
+            PostgresProperties(db),
         )  # fmt: skip
         async with opened(db, stores.metadata, stores.history, stores.commands, stores.properties):
             yield stores
 
     @asynccontextmanager
     async def history(self, folder: Path) -> AsyncIterator[HistoryStore]:
-        history = SqliteHistory(folder / "data", "normal")
-        async with opened(history):
+        db = PostgresDatabase(self.dsn)
+        history = PostgresHistory(db)
+        async with opened(db, history):
             yield history
 
 

@@ -42,9 +42,9 @@ async def test_an_old_database_is_upgraded_and_keeps_its_commands(postgres_dsn: 
     db = PostgresDatabase(postgres_dsn)
     await db.open()  # migrates the rest
     try:
-        async with db.connection() as conn:
-            assert await schema_version(conn) == LATEST
-            assert await conn.fetchval("SELECT to_regclass('samples') IS NOT NULL")
+        async with db.connection() as pooled:
+            assert await schema_version(pooled) == LATEST
+            assert await pooled.fetchval("SELECT to_regclass('samples') IS NOT NULL")
         stored = await PostgresCommands(db).get_command("c1")
     finally:
         await db.close()

@@ -1,5 +1,5 @@
--- Time series. One row of `samples` is one value of one signal: typed columns (exactly one
--- of vi, vf, vb, vj holds it, by `kind`) so SQL aggregates numbers and int64 stays exact.
+-- Time series. One row of `samples` is one value of one signal, in a typed column (vi, vf,
+-- vb or vj, by `kind`), so SQL aggregates numbers and int64 stays exact.
 -- The table is partitioned by time (history/partitions.py makes the ranges as batches need
 -- them); retention drops whole partitions.
 
@@ -24,8 +24,9 @@ CREATE TABLE series (
 );
 
 -- kind: i (int64, vi), f (float64, vf), b (bool, vb), j (JSON text, vj: strings, and the
--- values of a batch that mixed text with numbers). As in the SQLite backend, the values
--- of one signal in one batch share a kind: ints mixed with floats are floats.
+-- values of a batch that mixed text with numbers, whose numbers are in vf too). As in the
+-- SQLite backend, the values of one signal in one batch share a kind: ints mixed with
+-- floats are floats.
 -- batch and pos are the order of arrival: samples at equal times keep it.
 CREATE TABLE samples (
     stream_id bigint           NOT NULL,
@@ -33,7 +34,7 @@ CREATE TABLE samples (
     t         bigint           NOT NULL,
     batch     bigint           NOT NULL,
     pos       integer          NOT NULL,
-    kind      "char"           NOT NULL,
+    kind      text             NOT NULL,
     vi        bigint,
     vf        double precision,
     vb        boolean,

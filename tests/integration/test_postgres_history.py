@@ -1,0 +1,114 @@
+"""What the PostgreSQL history store must do beyond the tests every backend runs
+(test_postgres_history_*.py): a resent batch is stored once, also when two nodes store it at
+the same time; int64 values stay exact at their limits; partitions are made for any time,
+before the epoch and at the end of int64 too; retention drops whole partitions."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator
+
+import pytest
+
+from tests.integration._postgres import postgres_cluster as postgres_cluster
+from tests.integration._postgres import postgres_dsn as postgres_dsn
+from tests.unit._history import STREAM, TWIN, S, T, write
+from twinlink.domain.errors import TooManySignalsError
+from twinlink.domain.history import MAX_TIME, MIN_TIME
+from twinlink.domain.samples import SampleBatch
+from twinlink.store.postgres.db import PostgresDatabase
+from twinlink.store.postgres.history import PostgresHistory, partitions
+
+# The cluster starts before the module's first test, which the hygiene check then counts.
+pytestmark = [pytest.mark.integration, pytest.mark.usefixtures("postgres_cluster")]
+
+
+@pytest.fixture
+async def db(postgres_dsn: str) -> AsyncIterator[PostgresDatabase]:
+    database = PostgresDatabase(postgres_dsn)
+    await database.open()
+    try:
+        yield database
+    finally:
+        await database.close()
+
+
+def batch(seq: int, times: list[int], twin_id: int = TWIN) -> SampleBatch:
+    return SampleBatch(
+        twin_id, f"twin{twin_id}", STREAM, times, [{"x": i} for i in range(len(times))], T,
+        seq=seq,
+    )  # fmt: skip
+
+
+async def all_values(history: PostgresHistory) -> list[tuple[int, int]]:
+    page = await history.samples(TWIN, STREAM, None, MIN_TIME, MAX_TIME, 10_000)
+    return [(row["time"], row["values"]["x"]) for row in page.rows]
+
+
+async def test_a_resent_batch_is_stored_once(db: PostgresDatabase) -> None:
+    history = PostgresHistory(db)
+    assert await history.append(batch(1, [T, T + S]), device_id=5)
+    assert not await history.append(batch(1, [T, T + S]), device_id=5)
+    assert await history.append(batch(1, [T, T + S]), device_id=6)  # another device's seq 1
+    assert await history.append(batch(2, [T + 2 * S]), device_id=5)
+    assert await all_values(history) == [(T, 0), (T, 0), (T + S, 1), (T + S, 1), (T + 2 * S, 0)]
+    [stream] = await history.streams(TWIN)
+    assert stream["values"] == 5  # the summary counted the resend once too
+
+
+async def test_two_nodes_storing_one_batch_at_once_store_it_once(postgres_dsn: str) -> None:
+    nodes = [PostgresDatabase(postgres_dsn) for _ in range(2)]
+    for node in nodes:
+        await node.open()
+    try:
+        stores = [PostgresHistory(node) for node in nodes]
+        for seq in range(20):
+            sent = batch(seq, [T + seq * S + i for i in range(50)])
+            stored = await asyncio.gather(*(s.append(sent, device_id=9) for s in stores))
+            assert sorted(stored) == [False, True]
+        assert len(await all_values(stores[0])) == 20 * 50
+    finally:
+        for node in nodes:
+            await node.close()
+
+
+async def test_int64_values_stay_exact_at_their_limits(db: PostgresDatabase) -> None:
+    history = PostgresHistory(db)
+    big = [2**63 - 1, -(2**63), 2**53 + 1, 1682921346513461498]
+    await write(history, [(T + i * S, {"x": v}) for i, v in enumerate(big)])
+    assert [v for _, v in await all_values(history)] == big
+    latest = await history.latest(TWIN, STREAM, None)
+    assert latest["x"]["value"] == big[-1]
+    got = await history.aggregate(TWIN, STREAM, None, T, T + 10 * S, 10 * S, ["sum", "min", "max"])
+    assert got.rows[0]["values"]["x"] == {"sum": sum(big), "min": min(big), "max": max(big)}
+
+
+async def test_partitions_are_made_for_any_time_and_dropped_whole(db: PostgresDatabase) -> None:
+    history = PostgresHistory(db)
+    times = [MIN_TIME, -1, 0, T, MAX_TIME]
+    await write(history, [(t, {"x": i}) for i, t in enumerate(times)])
+    assert await all_values(history) == [(t, i) for i, t in enumerate(times)]
+    async with db.connection() as conn:
+        made = await partitions.existing(conn)
+    assert set(made) == {partitions.key_of(t) for t in times}
+    # everything before T's partition goes as whole partitions, and T's own samples before
+    # the cutoff row by row
+    assert await history.delete_before(T + 1) == 4
+    async with db.connection() as conn:
+        assert set(await partitions.existing(conn)) == {
+            partitions.key_of(T),
+            partitions.key_of(MAX_TIME),
+        }
+    assert await all_values(history) == [(MAX_TIME, 4)]
+    await write(history, [(0, {"x": 9})])  # a dropped range is made again
+    assert await all_values(history) == [(0, 9), (MAX_TIME, 4)]
+    [stream] = await history.streams(TWIN)
+    assert (stream["values"], stream["first"], stream["last"]) == (2, 0, MAX_TIME)
+
+
+async def test_a_batch_past_the_signal_limit_stores_nothing(db: PostgresDatabase) -> None:
+    history = PostgresHistory(db, max_signals_per_stream=3)
+    await write(history, [(T, {"a": 1, "b": 2})])
+    with pytest.raises(TooManySignalsError, match="4 signals"):
+        await write(history, [(T + S, {"c": 3, "d": 4})])
+    assert [s["name"] for s in (await history.streams(TWIN))[0]["signals"]] == ["a", "b"]
