@@ -15,6 +15,7 @@ forks for connections, as there before every test.
 
 from __future__ import annotations
 
+import ctypes
 import inspect
 import os
 import pwd
@@ -46,6 +47,7 @@ from twinlink.store.sqlite import SqliteStore
 SQLITE_ONLY = frozenset({"sqlite_history"})  # fixtures of tests of SQLite's own workings
 START_S = 60.0  # a cold initdb and start on a busy 2-core machine take a few seconds
 SUPERUSER = "postgres"
+_PR_SET_PDEATHSIG = 1
 
 
 @dataclass(frozen=True)
@@ -112,10 +114,20 @@ def _start(bin_dir: Path, folder: Path) -> tuple[subprocess.Popen[bytes], int]:
         [bin_dir / "postgres", "-D", data, "-p", str(port), "-k", sockets,
          "-c", "listen_addresses=127.0.0.1", "-c", "fsync=off", "-c", "full_page_writes=off",
          "-c", "synchronous_commit=off", "-c", "max_connections=200"],
-        stdout=log, stderr=subprocess.STDOUT, **_run_as(),  # type: ignore[call-overload]
+        stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+        # the fixture runs in pytest's main thread, whose exit is what the kernel watches
+        preexec_fn=_die_with_parent, **_run_as(),  # type: ignore[call-overload]
     )  # fmt: skip
     log.close()
     return server, port
+
+
+def _die_with_parent() -> None:
+    """In the child before exec (after it became the cluster's owner, which would clear the
+    setting): the kernel stops the server at once (SIGQUIT, "immediate shutdown") when pytest
+    dies, even by SIGKILL, so an interrupted run leaves no server behind."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.prctl(_PR_SET_PDEATHSIG, signal.SIGQUIT)
 
 
 def _stop(server: subprocess.Popen[bytes]) -> None:
