@@ -27,7 +27,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT, free_port
+from tests.conftest import ROOT
 
 START_S = 60.0  # a JVM on a busy 2-core machine; it is ready in about 3 s when idle
 STOP_S = 20.0
@@ -68,8 +68,24 @@ def kafka_libs() -> Path:
 
 
 def start_kafka(directory: Path, libs: Path) -> KafkaBroker:
-    """Format a KRaft log folder and start the broker; returns once it answers requests."""
-    port, controller_port = free_port(), free_port()
+    """Format a KRaft log folder and start the broker; returns once it answers requests.
+    Tries again on other ports when one it was given was taken before the JVM bound it (the
+    other engineers' servers pick free ports at the same time)."""
+    for attempt in range(1, 4):
+        try:
+            return _start_once(directory / f"attempt-{attempt}", libs)
+        except _PortTaken:
+            continue
+    raise RuntimeError("the Kafka broker found its ports taken three times in a row")
+
+
+class _PortTaken(RuntimeError):
+    pass
+
+
+def _start_once(directory: Path, libs: Path) -> KafkaBroker:
+    directory.mkdir()
+    port, controller_port = _free_ports(2)
     config = directory / "server.properties"
     config.write_text(_server_properties(directory / "data", port, controller_port))
     (directory / "log4j2.properties").write_text(LOG4J2)
@@ -97,10 +113,21 @@ def start_kafka(directory: Path, libs: Path) -> KafkaBroker:
     broker = KafkaBroker(f"127.0.0.1:{port}", directory, process)
     try:
         _wait_until_answering(broker)
-    except BaseException:
+    except BaseException as err:
         stop_kafka(broker)
+        if "Address already in use" in broker.log(tail=100_000):
+            raise _PortTaken() from err
         raise
     return broker
+
+
+def _free_ports(n: int) -> list[int]:
+    """n different free ports (free_port twice may well give the same one twice)."""
+    with contextlib.ExitStack() as held:
+        sockets = [held.enter_context(socket.socket()) for _ in range(n)]
+        for s in sockets:
+            s.bind(("127.0.0.1", 0))
+        return [int(s.getsockname()[1]) for s in sockets]
 
 
 def stop_kafka(broker: KafkaBroker) -> None:

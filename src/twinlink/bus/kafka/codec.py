@@ -4,8 +4,8 @@ MessagePack keeps what JSON would lose: an int stays an int (every int64 exactly
 readers turn big ones into floats), a float stays a float (1.0 is not 1), bytes stay bytes.
 A `SampleBatch` (the bus's unit today) is written as an array of its fields, not a map, so a
 record carries no field names; its samples stay the dicts they are, which msgspec writes in C
-without a Python step per sample. Anything else MessagePack can hold (None, bool, int, float,
-str, bytes, lists, dicts with str keys) is carried as it is; tuples come back as lists.
+without a Python step per sample. Anything else MessagePack can hold (None, bool, int64,
+float, str, bytes, lists, dicts) is carried as it is; tuples and sets come back as lists.
 
 The record is `[kind, subject, ...]`; `kind` says how to read the rest, so a later kind can be
 added without breaking nodes that still run this code (they log and skip what they cannot read).
