@@ -3,8 +3,9 @@
 A backend is one entry of `BACKENDS`: an object that opens the stores of that backend with
 their data in a folder (and closes them after). The `stores` fixture, and `history` in
 `_history.py`, run each test that takes them once per backend, with the backend's name in
-the test id (`test_x[sqlite]`). SQLite is the only one today; PostgreSQL comes as one more
-entry. A module opts in by importing the fixture
+the test id (`test_x[sqlite]`). SQLite is the only one here, so the unit run needs no
+server; tests/integration/test_postgres_*.py run the same test functions on PostgreSQL
+(`tests/integration/_postgres.py`). A module opts in by importing the fixture
 (`from tests.unit._storage import stores as stores`).
 """
 
