@@ -10,6 +10,7 @@ import secrets
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 
+import orjson
 import pytest
 from aiokafka import AIOKafkaConsumer, AIOKafkaProducer, TopicPartition
 
@@ -18,6 +19,9 @@ from tests.integration._kafka import KafkaBroker, kafka
 from twinlink.bus import samples_subject
 from twinlink.bus.kafka import KafkaBus, KafkaBusError, UnencodableMessageError
 from twinlink.domain.samples import SampleBatch, Value
+from twinlink.live.hub import LiveHub
+from twinlink.live.outbox import Outbox
+from twinlink.live.subscription import Subscription
 
 pytestmark = pytest.mark.integration
 __all__ = ["kafka"]
@@ -242,3 +246,30 @@ async def test_no_broker_at_the_address_is_a_clear_error_and_leaves_nothing_runn
     assert "check that the brokers run" in str(caught.value)
     with pytest.raises(RuntimeError, match="before start"):
         await bus.publish("samples.1.t", 1)
+
+
+async def test_a_live_watcher_on_one_node_gets_the_batches_published_on_the_other(
+    nodes: Nodes,
+) -> None:
+    """The live hub on node B fed by the Kafka bus: a browser there follows a twin whose
+    device sends to node A, every sample exact, in order."""
+    hub = LiveHub(nodes.b)
+    sub = Subscription("s1", 7, "rig", "telemetry")
+    sub.started = True
+    outbox = Outbox(64)
+    hub.add(sub, outbox)
+    try:
+        for seq in range(3):
+            values: list[dict[str, Value]] = [{"angle": seq + 0.5, "count": I64_MAX - seq}]
+            await nodes.a.publish(samples_subject(7, "telemetry"), batch(7, "telemetry", values))
+        await nodes.a.publish(samples_subject(7, "imu"), batch(7, "imu", [{"angle": 9.0}]))
+        await nodes.b.caught_up()
+    finally:
+        hub.close()
+    messages = []
+    while (raw := outbox.take()) is not None:
+        messages.append(orjson.loads(raw))
+    assert [(m["sub"], m["stream"]) for m in messages] == [("s1", "telemetry")] * 3  # no imu
+    assert [m["samples"][0]["values"] for m in messages] == [
+        {"angle": seq + 0.5, "count": I64_MAX - seq} for seq in range(3)
+    ]
