@@ -1,23 +1,27 @@
 """What the PostgreSQL history store must do beyond the tests every backend runs
 (test_postgres_history_*.py): a resent batch is stored once, also when two nodes store it at
 the same time; int64 values stay exact at their limits; partitions are made for any time,
-before the epoch and at the end of int64 too; retention drops whole partitions."""
+before the epoch and at the end of int64 too; retention drops whole partitions; reads keep to
+their budget; a connection the server cuts is a StorageError, and the store goes on."""
 
 from __future__ import annotations
 
 import asyncio
 from collections.abc import AsyncIterator
 
+import asyncpg
 import pytest
 
+from tests.integration._postgres import PostgresCluster
 from tests.integration._postgres import postgres_cluster as postgres_cluster
 from tests.integration._postgres import postgres_dsn as postgres_dsn
 from tests.unit._history import STREAM, TWIN, S, T, write
-from twinlink.domain.errors import TooManySignalsError
-from twinlink.domain.history import MAX_TIME, MIN_TIME
+from twinlink.domain.errors import StorageError, TooManySignalsError
+from twinlink.domain.history import MAX_TIME, MIN_TIME, QueryTimeoutError, QueryTooLargeError
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.postgres.db import PostgresDatabase
-from twinlink.store.postgres.history import PostgresHistory, partitions
+from twinlink.store.postgres.history import PostgresHistory, ReadLimits, partitions
+from twinlink.store.postgres.history.budget import reading
 
 # The cluster starts before the module's first test, which the hygiene check then counts.
 pytestmark = [pytest.mark.integration, pytest.mark.usefixtures("postgres_cluster")]
@@ -112,3 +116,44 @@ async def test_a_batch_past_the_signal_limit_stores_nothing(db: PostgresDatabase
     with pytest.raises(TooManySignalsError, match="4 signals"):
         await write(history, [(T + S, {"c": 3, "d": 4})])
     assert [s["name"] for s in (await history.streams(TWIN))[0]["signals"]] == ["a", "b"]
+
+
+async def test_a_read_over_its_time_is_stopped_by_the_server(db: PostgresDatabase) -> None:
+    budget = ReadLimits(timeout_s=0.05).query()
+    with pytest.raises(QueryTimeoutError, match=r"TWINLINK_HISTORY_QUERY_TIMEOUT_S \(0.05 s\)"):
+        async with reading(db, budget) as conn:
+            await conn.execute("SELECT pg_sleep(30)")  # stopped by statement_timeout
+    history = PostgresHistory(db, limits=ReadLimits(timeout_s=0))
+    await write(history, [(T, {"x": 1})])  # writes have no read budget
+    with pytest.raises(QueryTimeoutError):
+        await history.streams(TWIN)
+
+
+async def test_an_answer_over_its_values_is_refused(db: PostgresDatabase) -> None:
+    history = PostgresHistory(db, limits=ReadLimits(max_values=10))
+    await write(history, [(T + i * S, {"x": i}) for i in range(20)])
+    with pytest.raises(QueryTooLargeError, match="20 values; at most 10"):
+        await history.aggregate(TWIN, STREAM, None, T, T + 20 * S, S, ["min"])
+    with pytest.raises(QueryTooLargeError):
+        await history.downsample(TWIN, STREAM, None, T, T + 20 * S, 15, "minmax")
+    got = await history.aggregate(TWIN, STREAM, None, T, T + 20 * S, 10 * S, ["min", "max"])
+    assert [row["values"]["x"] for row in got.rows] == [
+        {"min": 0, "max": 9},
+        {"min": 10, "max": 19},
+    ]
+
+
+async def test_a_connection_the_server_cuts_is_a_storage_error_and_the_next_works(
+    db: PostgresDatabase, postgres_cluster: PostgresCluster
+) -> None:
+    history = PostgresHistory(db)
+    admin = await asyncpg.connect(postgres_cluster.dsn())
+    try:
+        with pytest.raises(StorageError, match="cannot be reached or failed"):
+            async with db.connection() as conn:
+                await admin.execute("SELECT pg_terminate_backend($1)", conn.get_server_pid())
+                await conn.fetchval("SELECT 1")
+    finally:
+        await admin.close()
+    await write(history, [(T, {"x": 1})])  # the pool opens a new connection
+    assert await all_values(history) == [(T, 1)]

@@ -16,20 +16,26 @@ from twinlink.domain.samples import SampleBatch
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.history import reads, upkeep
 from twinlink.store.postgres.history.aggregate import aggregate
+from twinlink.store.postgres.history.budget import ReadLimits, reading
 from twinlink.store.postgres.history.downsample import downsample
 from twinlink.store.postgres.history.export import export_pieces
 from twinlink.store.postgres.history.series import select_series
 from twinlink.store.postgres.history.writer import MAX_SIGNALS_PER_STREAM, HistoryWriter
 
-__all__ = ["PostgresHistory"]
+__all__ = ["PostgresHistory", "ReadLimits"]
 
 
 class PostgresHistory:
     def __init__(
-        self, db: PostgresDatabase, *, max_signals_per_stream: int = MAX_SIGNALS_PER_STREAM
+        self,
+        db: PostgresDatabase,
+        *,
+        max_signals_per_stream: int = MAX_SIGNALS_PER_STREAM,
+        limits: ReadLimits | None = None,
     ) -> None:
         self.db = db
         self.writer = HistoryWriter(db, max_signals_per_stream)
+        self.limits = limits or ReadLimits()
 
     async def open(self) -> None:
         """Nothing of its own to open: the shared database is opened before it."""
@@ -40,23 +46,23 @@ class PostgresHistory:
     async def append(self, batch: SampleBatch, device_id: int | None = None) -> bool:
         return await self.writer.append(batch, device_id)
 
-    # -- reads --------------------------------------------------------------------------
+    # -- reads: each in a read-only transaction, under a budget of time and values -------
 
     async def streams(self, twin_id: int) -> list[dict[str, Any]]:
-        async with self.db.connection() as conn:
+        async with reading(self.db, self.limits.query()) as conn:
             return await reads.stream_summaries(conn, twin_id)
 
     async def latest(
         self, twin_id: int, stream: str, signals: list[str] | None
     ) -> dict[str, dict[str, Any]]:
-        async with self.db.connection() as conn:
+        async with reading(self.db, self.limits.query()) as conn:
             found = await select_series(conn, twin_id, stream, signals)
             return await reads.latest_values(conn, found)
 
     async def extent(
         self, twin_id: int, stream: str, signals: list[str] | None
     ) -> tuple[int, int] | None:
-        async with self.db.connection() as conn:
+        async with reading(self.db, self.limits.query()) as conn:
             found = await select_series(conn, twin_id, stream, signals)
             return await reads.data_extent(conn, found)
 
@@ -70,7 +76,7 @@ class PostgresHistory:
         limit: int,
         after: tuple[int, int] | None = None,
     ) -> SamplePage:
-        async with self.db.connection() as conn:
+        async with reading(self.db, self.limits.query()) as conn:
             found = await select_series(conn, twin_id, stream, signals)
             return await reads.sample_page(conn, found, start, end, limit, after)
 
@@ -84,9 +90,10 @@ class PostgresHistory:
         width: int,
         fns: list[str],
     ) -> Aggregated:
-        async with self.db.connection() as conn:
+        budget = self.limits.query()
+        async with reading(self.db, budget) as conn:
             found = await select_series(conn, twin_id, stream, signals)
-            return await aggregate(conn, found, start, end, width, fns)
+            return await aggregate(conn, found, start, end, width, fns, budget)
 
     async def downsample(
         self,
@@ -98,9 +105,10 @@ class PostgresHistory:
         points: int,
         method: str,
     ) -> dict[str, Downsampled]:
-        async with self.db.connection() as conn:
+        budget = self.limits.query()
+        async with reading(self.db, budget) as conn:
             found = await select_series(conn, twin_id, stream, signals)
-            return await downsample(conn, found, start, end, points, method)
+            return await downsample(conn, found, start, end, points, method, budget)
 
     async def export(
         self,
@@ -113,10 +121,12 @@ class PostgresHistory:
         time_format: str,
     ) -> tuple[list[str], AsyncIterator[bytes]]:
         """The series are looked up first, so an unknown stream or signal fails before
-        anything is sent; the pieces come from a cursor of their own transaction."""
-        async with self.db.connection() as conn:
+        anything is sent; the pieces come a page at a time (export.py), until the export's
+        time is up (TWINLINK_HISTORY_EXPORT_TIMEOUT_S)."""
+        async with reading(self.db, self.limits.query()) as conn:
             found = await select_series(conn, twin_id, stream, signals)
-        return found.names, export_pieces(self.db, found, start, end, fmt, time_format)
+        budget = self.limits.export()
+        return found.names, export_pieces(self.db, found, start, end, fmt, time_format, budget)
 
     # -- upkeep -------------------------------------------------------------------------
 

@@ -13,13 +13,14 @@ from typing import Any
 
 from twinlink.domain.history import Aggregated
 from twinlink.store.postgres.db import Connection
+from twinlink.store.postgres.history.budget import ReadBudget
 from twinlink.store.postgres.history.series import Selection
 
 # a number: a numeric kind's value, or a number of a batch that mixed numbers with text
 NUMERIC = "(kind <> 'j' OR vf IS NOT NULL)"
 _RANGE = "stream_id = $1 AND series_id = ANY($2::bigint[]) AND t >= $3 AND t <= $4"
 _CLASSIFY = (
-    f"SELECT series_id, bool_or({NUMERIC}), bool_and(kind = 'i') "
+    f"SELECT series_id, count(*) FILTER (WHERE {NUMERIC}), bool_and(kind = 'i') "
     f"FROM samples WHERE {_RANGE} GROUP BY series_id"
 )
 _NUMBER = "coalesce(vf, vi::float8, vb::int::float8)"
@@ -46,14 +47,17 @@ async def aggregate(
     end: int,
     width: int,
     fns: list[str],
+    budget: ReadBudget,
 ) -> Aggregated:
     kinds = {
-        sid: (numeric, exact)
-        for sid, numeric, exact in await conn.fetch(
+        sid: (numbers, exact)
+        for sid, numbers, exact in await conn.fetch(
             _CLASSIFY, found.stream_id, found.ids, start, end
         )
     }
     text = [s.signal for s in found.series if s.id in kinds and not kinds[s.id][0]]
+    buckets = end // width - start // width + 1
+    budget.values(sum(min(n, buckets) for n, _ in kinds.values()) * len(fns), "the aggregate")
     rows = await conn.fetch(_AGGREGATE, found.stream_id, found.ids, start, end, width)
     if not rows:
         return Aggregated([], text)

@@ -16,6 +16,7 @@ import numpy.typing as npt
 from twinlink.domain.history import Downsampled
 from twinlink.store.postgres.db import Connection
 from twinlink.store.postgres.history.aggregate import NUMERIC
+from twinlink.store.postgres.history.budget import ReadBudget
 from twinlink.store.postgres.history.series import Selection
 
 MINMAX_RATIO = 4
@@ -35,12 +36,19 @@ _SIDE = (
 
 
 async def downsample(
-    conn: Connection, found: Selection, start: int, end: int, points: int, method: str
+    conn: Connection,
+    found: Selection,
+    start: int,
+    end: int,
+    points: int,
+    method: str,
+    budget: ReadBudget,
 ) -> dict[str, Downsampled]:
     kinds = {
         sid: (count, exact)
         for sid, count, exact in await conn.fetch(_CLASSIFY, found.stream_id, found.ids, start, end)
     }
+    budget.values(sum(min(n, points) for n, _ in kinds.values()), "the downsample")
     per = points if method == "minmax" else points * MINMAX_RATIO
     out: dict[str, Downsampled] = {}
     for s in found.series:

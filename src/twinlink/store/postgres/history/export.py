@@ -15,6 +15,7 @@ from typing import Any
 import orjson
 
 from twinlink.store.postgres.db import PostgresDatabase
+from twinlink.store.postgres.history.budget import ReadBudget, reading
 from twinlink.store.postgres.history.reads import sample_page
 from twinlink.store.postgres.history.series import Selection
 
@@ -58,7 +59,13 @@ def _jsonl(rows: list[dict[str, Any]], _: list[str], time: Callable[[int], Any])
 
 
 async def export_pieces(
-    db: PostgresDatabase, found: Selection, start: int, end: int, fmt: str, time_format: str
+    db: PostgresDatabase,
+    found: Selection,
+    start: int,
+    end: int,
+    fmt: str,
+    time_format: str,
+    budget: ReadBudget,
 ) -> AsyncIterator[bytes]:
     names = found.names
     time: Callable[[int], Any] = iso_time if time_format == "iso" else (lambda t: t)
@@ -71,7 +78,7 @@ async def export_pieces(
     separator = b"[\n"
     after: tuple[int, int] | None = None
     while True:
-        async with db.connection() as conn:
+        async with reading(db, budget) as conn:
             page = await sample_page(conn, found, start, end, PAGE_ROWS, after)
         texts = (_csv if fmt == "csv" else _jsonl)(page.rows, names, time)
         for text in texts:
