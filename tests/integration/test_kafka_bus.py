@@ -13,11 +13,13 @@ from dataclasses import dataclass
 import orjson
 import pytest
 from aiokafka import AIOKafkaConsumer, AIOKafkaProducer, TopicPartition
+from aiokafka.errors import KafkaConnectionError
 
 from tests.conftest import free_port
 from tests.integration._kafka import KafkaBroker, kafka
 from twinlink.bus import samples_subject
 from twinlink.bus.kafka import KafkaBus, KafkaBusError, UnencodableMessageError
+from twinlink.bus.kafka import bus as kafka_bus_module
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.live.hub import LiveHub
 from twinlink.live.outbox import Outbox
@@ -273,3 +275,37 @@ async def test_a_live_watcher_on_one_node_gets_the_batches_published_on_the_othe
     assert [m["samples"][0]["values"] for m in messages] == [
         {"angle": seq + 0.5, "count": I64_MAX - seq} for seq in range(3)
     ]
+
+
+async def test_the_reader_outlives_a_failed_fetch(
+    nodes: Nodes, caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(kafka_bus_module, "_RETRY_S", 0.01)
+    consumer = nodes.b._consumer
+    assert consumer is not None
+    fetch = consumer.getmany
+    failures: list[Exception] = [KafkaConnectionError("broker away"), RuntimeError("client bug")]
+
+    async def flaky(*args: object, **kwargs: object) -> object:
+        if failures:
+            raise failures.pop(0)
+        return await fetch(*args, **kwargs)
+
+    got: list[object] = []
+    nodes.b.subscribe("samples.*", lambda s, m: got.append(m))
+    with caplog.at_level(logging.WARNING, logger="twinlink.bus"):
+        monkeypatch.setattr(consumer, "getmany", flaky)
+        async with asyncio.timeout(10):  # the reader's next fetches fail (its current one ends)
+            while failures:
+                await asyncio.sleep(0.01)
+        await nodes.a.publish("samples.1.t", "after the failures")
+        await nodes.b.caught_up()
+    assert got == ["after the failures"]
+    retried = "reading the Kafka bus failed; retrying"
+    retries = [r for r in caplog.records if r.getMessage() == retried]
+    assert [r.error for r in retries] == [  # type: ignore[attr-defined]
+        "KafkaConnectionError('broker away')",
+        "RuntimeError('client bug')",
+    ]
+    assert not retries[0].exc_info  # a Kafka error is a line; anything else its traceback
+    assert retries[1].exc_info and isinstance(retries[1].exc_info[1], RuntimeError)

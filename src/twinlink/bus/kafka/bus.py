@@ -218,10 +218,11 @@ class KafkaBus:
         while True:
             try:
                 fetched = await consumer.getmany(timeout_ms=1000)
-            except KafkaError as err:
+            except Exception as err:  # the reader outlives any one failure, or the node is deaf
                 log.warning(
                     "reading the Kafka bus failed; retrying",
                     extra={"event": "bus_read_failed", "error": repr(err)},
+                    exc_info=not isinstance(err, KafkaError),  # anything else is a bug
                 )
                 await asyncio.sleep(_RETRY_S)
                 continue
