@@ -4,12 +4,13 @@ tests/integration/_kafka.py) on this machine; the in-process MemoryBus in the sa
 reference. Both buses run in this one process (as two nodes would, each with its own
 producer and reader), so the broker, the two nodes and the publishers share the machine.
 
-    .venv/bin/python bench/bus.py            # 3 cases x 2 buses, 5 s each, about 1 minute
+    .venv/bin/python bench/bus.py            # 4 cases x 2 buses, 5 s each, about 1 minute
     .venv/bin/python bench/bus.py --quick    # 2 s each
 
 A case is publishers (each awaiting its publish before the next, as a device session does)
 x samples per batch (4 signals each). Figures: batches/s and samples/s from the first publish
-until the other node's subscriber has every batch (end to end), and the published rate.
+until the other node's subscriber has every batch (end to end), and the published rate; then
+the delay of each batch from its publish to the other node at 1 000 samples/s.
 """
 
 from __future__ import annotations
@@ -88,6 +89,54 @@ async def run_case(sender: Bus, receiver: Bus, case: Case, seconds: float) -> di
     }
 
 
+async def run_latency(sender: Bus, receiver: Bus, seconds: float) -> dict[str, float]:
+    """100 batches/s of 10 samples (1 000 samples/s, the issue's live delay case): the delay
+    from the publish call to the other node's subscriber, per batch."""
+    delays: list[int] = []
+
+    def on_batch(subject: str, message: object) -> None:
+        if isinstance(message, SampleBatch):
+            delays.append(time.monotonic_ns() - message.received_ns)
+
+    stop = receiver.subscribe("samples.*", on_batch)
+    template = make_batch(1, 10, 0)
+    count = int(seconds * 100)
+    start = time.monotonic()
+    for i in range(count):
+        await asyncio.sleep(max(0.0, start + i / 100 - time.monotonic()))
+        template.received_ns = time.monotonic_ns()
+        await sender.publish("samples.1.telemetry", template)
+    while len(delays) < count:
+        await asyncio.sleep(0.01)
+    stop()
+    ordered = sorted(delays)
+    return {
+        "p50_ms": ordered[len(ordered) // 2] / 1e6,
+        "p99_ms": ordered[min(len(ordered) - 1, int(len(ordered) * 0.99))] / 1e6,
+        "max_ms": ordered[-1] / 1e6,
+    }
+
+
+async def measure(buses: list[tuple[str, Bus, Bus]], seconds: float) -> None:
+    print(f"{'bus':8} {'publishers':>10} {'samples':>8} {'batches/s':>10} "
+          f"{'samples/s':>11} {'published/s':>12}")  # fmt: skip
+    for case in CASES:
+        for name, sender, receiver in buses:
+            r = await run_case(sender, receiver, case, seconds)
+            print(
+                f"{name:8} {case.publishers:>10} {case.samples:>8} "
+                f"{r['end_to_end_batches_per_s']:>10,.0f} "
+                f"{r['end_to_end_samples_per_s']:>11,.0f} "
+                f"{r['published_batches_per_s']:>12,.0f}"
+            )
+    print("delay of a batch at 1 000 samples/s (100 batches/s of 10):")
+    for name, sender, receiver in buses:
+        r = await run_latency(sender, receiver, seconds)
+        print(
+            f"{name:8} p50 {r['p50_ms']:.2f} ms, p99 {r['p99_ms']:.2f} ms, max {r['max_ms']:.2f} ms"
+        )
+
+
 async def main(seconds: float) -> None:
     memory = MemoryBus()
     with tempfile.TemporaryDirectory() as folder:
@@ -98,20 +147,7 @@ async def main(seconds: float) -> None:
             await node_a.start()
             await node_b.start()
             try:
-                print(f"{'bus':8} {'publishers':>10} {'samples':>8} {'batches/s':>10} "
-                      f"{'samples/s':>11} {'published/s':>12}")  # fmt: skip
-                for case in CASES:
-                    for name, sender, receiver in (
-                        ("memory", memory, memory),
-                        ("kafka", node_a, node_b),
-                    ):
-                        r = await run_case(sender, receiver, case, seconds)
-                        print(
-                            f"{name:8} {case.publishers:>10} {case.samples:>8} "
-                            f"{r['end_to_end_batches_per_s']:>10,.0f} "
-                            f"{r['end_to_end_samples_per_s']:>11,.0f} "
-                            f"{r['published_batches_per_s']:>12,.0f}"
-                        )
+                await measure([("memory", memory, memory), ("kafka", node_a, node_b)], seconds)
             finally:
                 await node_b.stop()
                 await node_a.stop()
