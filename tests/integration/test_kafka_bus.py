@@ -309,3 +309,13 @@ async def test_the_reader_outlives_a_failed_fetch(
     ]
     assert not retries[0].exc_info  # a Kafka error is a line; anything else its traceback
     assert retries[1].exc_info and isinstance(retries[1].exc_info[1], RuntimeError)
+
+
+async def test_starting_a_started_bus_is_refused_and_it_keeps_working(nodes: Nodes) -> None:
+    got: list[object] = []
+    nodes.b.subscribe("samples.*", lambda s, m: got.append(m))
+    with pytest.raises(RuntimeError, match="start twice"):
+        await nodes.a.start()
+    await nodes.a.publish("samples.1.t", "still")
+    await nodes.b.caught_up()
+    assert got == ["still"]

@@ -74,6 +74,8 @@ class KafkaBus:
         self._reader: asyncio.Task[None] | None = None
 
     async def start(self) -> None:
+        if self._reader is not None:
+            raise RuntimeError("KafkaBus.start twice: stop() it first")
         try:
             partitions = await self._prepare_topics()
             self._producer = await self._started(self._new_producer())
