@@ -87,6 +87,8 @@ bench: $(STAMP) $(UI_BUILT)
 	$(BIN)/python bench/gateway.py
 	$(BIN)/python bench/udp.py
 	$(BIN)/python bench/mqtt.py
+	@scripts/ensure-packages.sh openjdk-17-jre-headless maven
+	$(BIN)/python bench/bus.py
 ifneq ($(UI_BUILT),)
 	$(BIN)/python bench/ui_chart.py
 endif
