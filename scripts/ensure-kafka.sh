@@ -38,10 +38,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   exit 1
 fi
 
+mkdir -p "$dest"
+# Test runs side by side may both find the jars missing: one fetches, the other waits for it.
+exec 9>"$dest/.lock"
+flock 9
+if [ -f "$dest/.complete" ]; then
+  echo "$dest/libs"
+  exit 0
+fi
 echo "Fetching the jars of Apache Kafka $version into $dest/libs ..." >&2
 tmp="$dest/libs.tmp"
 rm -rf "$tmp"
-mkdir -p "$dest"
 # The plugin's version is named: Maven's default for a bare `dependency:` differs by release.
 if ! mvn -q -B -f "$here/kafka/pom.xml" -Dkafka.version="$version" \
     org.apache.maven.plugins:maven-dependency-plugin:3.8.1:copy-dependencies \
