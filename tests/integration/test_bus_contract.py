@@ -1,6 +1,7 @@
 """The bus contract, run on each implementation: the in-process MemoryBus and the KafkaBus on
 the tests' real broker (tests/integration/_kafka.py). What only the memory bus does (delivery
-inside `publish`, the very object handed over, `publish_now`) is in tests/unit/test_bus.py.
+inside `publish`, the very object handed over, `publish_now`, (un)subscribing while a message
+is being delivered) is in tests/unit/test_bus.py.
 
 Kafka hands messages over on its reader task, after `publish` returns: a test awaits
 `delivered(bus)` before it looks, which for Kafka waits until the node has read everything
@@ -129,6 +130,16 @@ async def test_publish_without_subscribers_does_nothing(bus: Bus) -> None:
     await delivered(bus)
 
 
+async def test_the_same_handler_subscribed_twice_is_called_twice(bus: Bus) -> None:
+    seen: Seen = []
+    handler = recorder(seen, "h")
+    bus.subscribe("samples.*", handler)
+    bus.subscribe("samples.1.*", handler)
+    await bus.publish("samples.1.t", 1)
+    await delivered(bus)
+    assert len(seen) == 2
+
+
 async def test_unsubscribe_ends_only_that_subscription(bus: Bus) -> None:
     seen: Seen = []
     stop_a = bus.subscribe("samples.1.t", recorder(seen, "a"))
@@ -190,7 +201,9 @@ async def test_a_raising_handler_is_logged_and_does_not_stop_the_others(
     failures = [r for r in caplog.records if r.name == "twinlink.bus"]
     assert [r.getMessage() for r in failures] == ["bus subscriber failed"] * 2
     for record in failures:
+        assert record.levelno == logging.ERROR
         assert record.subject == "samples.1.t"  # type: ignore[attr-defined]
+        assert record.event == "bus_handler"  # type: ignore[attr-defined]
         assert record.exc_info is not None
         assert isinstance(record.exc_info[1], ValueError)
 
