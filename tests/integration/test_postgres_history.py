@@ -143,6 +143,13 @@ async def test_an_answer_over_its_values_is_refused(db: PostgresDatabase) -> Non
     ]
 
 
+async def until_gone(admin: asyncpg.Connection, pid: int) -> None:
+    """Wait until the server's backend `pid` has ended (polled, with a deadline)."""
+    async with asyncio.timeout(30):
+        while await admin.fetchval("SELECT count(*) FROM pg_stat_activity WHERE pid = $1", pid):
+            await asyncio.sleep(0.01)
+
+
 async def test_a_connection_the_server_cuts_is_a_storage_error_and_the_next_works(
     db: PostgresDatabase, postgres_cluster: PostgresCluster
 ) -> None:
@@ -151,9 +158,28 @@ async def test_a_connection_the_server_cuts_is_a_storage_error_and_the_next_work
     try:
         with pytest.raises(StorageError, match="cannot be reached or failed"):
             async with db.connection() as conn:
-                await admin.execute("SELECT pg_terminate_backend($1)", conn.get_server_pid())
+                pid = conn.get_server_pid()
+                await admin.execute("SELECT pg_terminate_backend($1)", pid)
+                await until_gone(admin, pid)
                 await conn.fetchval("SELECT 1")
     finally:
         await admin.close()
     await write(history, [(T, {"x": 1})])  # the pool opens a new connection
     assert await all_values(history) == [(T, 1)]
+
+
+async def test_a_twin_deleted_by_another_node_gets_new_series(postgres_dsn: str) -> None:
+    nodes = [PostgresDatabase(postgres_dsn) for _ in range(2)]
+    for node in nodes:
+        await node.open()
+    try:
+        a, b = PostgresHistory(nodes[0]), PostgresHistory(nodes[1])
+        await write(a, [(T, {"x": 1})])  # a caches the series' ids
+        assert await b.delete_twin(TWIN) == 1
+        await write(a, [(T + S, {"x": 2})])
+        assert await all_values(b) == [(T + S, 2)]
+        [stream] = await b.streams(TWIN)
+        assert (stream["values"], stream["first"]) == (1, T + S)
+    finally:
+        for node in nodes:
+            await node.close()

@@ -89,6 +89,10 @@ _UNAVAILABLE = (
     asyncpg.OperatorInterventionError,  # shutdown, restart, "cannot connect now"
     asyncpg.InsufficientResourcesError,  # out of memory, too many connections
     asyncpg.InterfaceError,  # the connection closed under a query
+    # a query on a connection whose server side ended while it was idle (the server's
+    # FATAL message came between two queries): asyncpg's protocol is then in a state of
+    # its own
+    asyncpg.InternalClientError,
     OSError,  # refused, reset, unreachable
     TimeoutError,
 )

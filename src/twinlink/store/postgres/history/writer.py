@@ -1,11 +1,14 @@
 """The write side of PostgreSQL history: one batch, one transaction.
 
-In that transaction: the batch's (device, seq) is recorded (a resent batch finds it there and
-writes nothing: `append` returns False), its samples go in with COPY (one row per value, typed
-by the kind of its signal in this batch), and the summaries /streams shows and the latest
-values are brought up to date. The ack follows the commit, so an acknowledged batch is durable
-in PostgreSQL; two nodes sending the same (device, seq) at once store it once (the second
-waits on the first's row in `ingested`, then finds it).
+In that transaction: the rows of the batch's series are locked (in id order, so writers of
+one stream on several nodes queue instead of deadlocking), the batch's (device, seq) is
+recorded (a resent batch finds it there and writes nothing: `append` returns False), its
+samples go in with COPY (one row per value, typed by the kind of its signal in this batch),
+and the summaries /streams shows and the latest values are brought up to date. The ack
+follows the commit, so an acknowledged batch is durable in PostgreSQL; two nodes sending the
+same (device, seq) at once store it once (the second waits for the first's commit, then
+finds its row in `ingested`). Series ids are cached per node; when another node deleted the
+twin's history meanwhile, the batch looks them up (makes them) again.
 """
 
 from __future__ import annotations
@@ -111,14 +114,22 @@ class HistoryWriter:
         if not batch.times:
             return True
         try:
-            return await self._append(batch, device_id)
+            stored = await self._append(batch, device_id)
         except asyncpg.CheckViolationError:
             # No partition for some time: one was dropped (retention) by another node since
             # we made it. Make it again, once.
             self.partitions.clear()
-            return await self._append(batch, device_id)
+            stored = await self._append(batch, device_id)
+        if stored is None:
+            # The cached ids of the stream's series were deleted with the twin's history by
+            # another node: look them up (make them) again, once.
+            self.forget(batch.twin_id)
+            stored = await self._append(batch, device_id)
+        return bool(stored)
 
-    async def _append(self, batch: SampleBatch, device_id: int | None) -> bool:
+    async def _append(self, batch: SampleBatch, device_id: int | None) -> bool | None:
+        """True when stored, False when stored before, None (nothing written) when the
+        cached series ids are gone."""
         by_signal = columns(batch)
         needed = partitions.keys_of(batch.times) - self.partitions
         async with self.db.connection() as conn:
@@ -126,6 +137,9 @@ class HistoryWriter:
                 await partitions.create(conn, key)
             self.partitions |= needed
             async with conn.transaction():
+                stream_id, ids = await self._series(conn, batch, list(by_signal))
+                if not await _lock(conn, [ids[s] for s in by_signal]):
+                    return None
                 if device_id is not None and batch.seq is not None:
                     status = await conn.execute(
                         "INSERT INTO ingested (device_id, seq, at_ns) VALUES ($1, $2, $3) "
@@ -134,7 +148,6 @@ class HistoryWriter:
                     )  # fmt: skip
                     if status.endswith(" 0"):
                         return False  # stored before
-                stream_id, ids = await self._series(conn, batch, list(by_signal))
                 await self._write(conn, stream_id, ids, by_signal)
         self.series[(batch.twin_id, batch.stream)] = (stream_id, ids)
         return True
@@ -157,12 +170,6 @@ class HistoryWriter:
             summary.append((sid, len(column.times), first_t, last_t, kind))
             value = column.values[last] if kind != "f" else values[last]
             latest.append((sid, last_t, batch_id, orjson.dumps(value).decode()))
-        # The series' rows in id order first: writers of one stream on several nodes then
-        # queue on them instead of locking them in different orders (a deadlock).
-        await conn.execute(
-            "SELECT 1 FROM series WHERE id = ANY($1::bigint[]) ORDER BY id FOR UPDATE",
-            [row[0] for row in summary],
-        )
         await conn.copy_records_to_table(
             "samples", records=(r for part in rows for r in part), columns=COLUMNS
         )
@@ -208,6 +215,17 @@ class HistoryWriter:
             f"signals (new: {named}); a stream may have at most {limit} "
             "(the server's TWINLINK_MAX_SIGNALS_PER_STREAM). The batch was not stored."
         )
+
+
+async def _lock(conn: Connection, series_ids: list[int]) -> bool:
+    """Lock the series' rows in id order: writers of one stream on several nodes then queue
+    on them instead of locking them in different orders (a deadlock). False when some are
+    gone (the twin's history was deleted since their ids were cached)."""
+    locked = await conn.fetch(
+        "SELECT id FROM series WHERE id = ANY($1::bigint[]) ORDER BY id FOR UPDATE",
+        series_ids,
+    )
+    return len(locked) == len(series_ids)
 
 
 _SUMMARY = (
