@@ -17,7 +17,13 @@ from tests.integration._postgres import postgres_cluster as postgres_cluster
 from tests.integration._postgres import postgres_dsn as postgres_dsn
 from tests.unit._history import STREAM, TWIN, S, T, write
 from twinlink.domain.errors import StorageError, TooManySignalsError
-from twinlink.domain.history import MAX_TIME, MIN_TIME, QueryTimeoutError, QueryTooLargeError
+from twinlink.domain.history import (
+    MAX_TIME,
+    MIN_TIME,
+    QueryTimeoutError,
+    QueryTooLargeError,
+    SamplePage,
+)
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.history import PostgresHistory, ReadLimits, partitions
@@ -183,3 +189,15 @@ async def test_a_twin_deleted_by_another_node_gets_new_series(postgres_dsn: str)
     finally:
         for node in nodes:
             await node.close()
+
+
+async def test_a_stream_retention_emptied_reads_empty_as_in_sqlite(db: PostgresDatabase) -> None:
+    history = PostgresHistory(db)
+    await write(history, [(T, {"x": 1})])
+    assert await history.delete_before(T + S) == 1
+    assert await history.samples(TWIN, STREAM, ["x"], MIN_TIME, MAX_TIME, 10) == SamplePage(
+        [], None
+    )
+    assert await history.latest(TWIN, STREAM, None) == {}
+    assert await history.extent(TWIN, STREAM, None) is None
+    assert await history.streams(TWIN) == []

@@ -44,10 +44,11 @@ async def select_series(
     conn: Connection, twin_id: int, stream: str, signals: list[str] | None
 ) -> Selection:
     """The series of `signals` (every signal when None) of one stream. NotFoundError names
-    what exists when the stream or a signal does not."""
+    what exists when the stream or a signal does not. As in the SQLite backend, a signal
+    whose samples retention deleted is still known (its reads are empty)."""
     rows = await conn.fetch(
         "SELECT st.id, se.id, se.signal, se.kinds FROM streams st JOIN series se "
-        "ON se.stream_id = st.id WHERE st.twin_id = $1 AND st.name = $2 AND se.n > 0 "
+        "ON se.stream_id = st.id WHERE st.twin_id = $1 AND st.name = $2 "
         "ORDER BY se.signal",
         twin_id, stream,
     )  # fmt: skip
@@ -55,7 +56,7 @@ async def select_series(
     if not known:
         names = await conn.fetch(
             "SELECT DISTINCT st.name FROM streams st JOIN series se ON se.stream_id = st.id "
-            "WHERE st.twin_id = $1 AND se.n > 0 ORDER BY st.name",
+            "WHERE st.twin_id = $1 ORDER BY st.name",
             twin_id,
         )
         have = (
