@@ -2,12 +2,14 @@
 (test_postgres_history_*.py): a resent batch is stored once, also when two nodes store it at
 the same time; int64 values stay exact at their limits; partitions are made for any time,
 before the epoch and at the end of int64 too; retention drops whole partitions; reads keep to
-their budget; a connection the server cuts is a StorageError, and the store goes on."""
+their budget; a connection the server cuts is a StorageError, and the store goes on; an
+export over many pages is the SQLite backend's, byte for byte."""
 
 from __future__ import annotations
 
 import asyncio
 from collections.abc import AsyncIterator
+from pathlib import Path
 
 import asyncpg
 import pytest
@@ -26,8 +28,9 @@ from twinlink.domain.history import (
 )
 from twinlink.domain.samples import SampleBatch
 from twinlink.store.postgres.db import PostgresDatabase
-from twinlink.store.postgres.history import PostgresHistory, ReadLimits, partitions
+from twinlink.store.postgres.history import PostgresHistory, ReadLimits, export, partitions
 from twinlink.store.postgres.history.budget import reading
+from twinlink.store.sqlite.history import SqliteHistory
 
 # The cluster starts before the module's first test, which the hygiene check then counts.
 pytestmark = [pytest.mark.integration, pytest.mark.usefixtures("postgres_cluster")]
@@ -201,3 +204,25 @@ async def test_a_stream_retention_emptied_reads_empty_as_in_sqlite(db: PostgresD
     assert await history.latest(TWIN, STREAM, None) == {}
     assert await history.extent(TWIN, STREAM, None) is None
     assert await history.streams(TWIN) == []
+
+
+@pytest.mark.parametrize("fmt", ["csv", "jsonl", "json"])
+async def test_an_export_of_many_pages_is_the_sqlite_backend_s_byte_for_byte(
+    db: PostgresDatabase, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: str
+) -> None:
+    monkeypatch.setattr(export, "PAGE_ROWS", 7)  # pages end inside runs of equal times
+    rows = [(T + (i // 3) * S, {"x": i, "y": f"v,{i}", "z": i / 4}) for i in range(60)]
+    rows += [(T + 5 * S, {"x": -1}), (T + 5 * S, {"x": -2, "z": True})]  # late, equal times
+    sqlite = SqliteHistory(tmp_path / "data", "normal")
+    await sqlite.open()
+    try:
+        texts = []
+        for store in (PostgresHistory(db), sqlite):
+            await write(store, rows[:60])
+            await write(store, rows[60:])
+            names, pieces = await store.export(TWIN, STREAM, None, MIN_TIME, MAX_TIME, fmt, "iso")
+            texts.append((names, b"".join([p async for p in pieces])))
+    finally:
+        await sqlite.close()
+    assert texts[0] == texts[1]
+    assert texts[0][1].count(b"\n") >= 60
