@@ -26,7 +26,8 @@ from twinlink.domain.history import (
     QueryTooLargeError,
     SamplePage,
 )
-from twinlink.domain.samples import SampleBatch
+from twinlink.domain.samples import SampleBatch, Value
+from twinlink.store.history import HistoryStore
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.history import PostgresHistory, ReadLimits, export, partitions
 from twinlink.store.postgres.history.budget import reading
@@ -226,3 +227,50 @@ async def test_an_export_of_many_pages_is_the_sqlite_backend_s_byte_for_byte(
         await sqlite.close()
     assert texts[0] == texts[1]
     assert texts[0][1].count(b"\n") >= 60
+
+
+def _column(i: int) -> dict[str, Value]:
+    """A signal of ints (some past 2^53), one of floats with ties, one of ints and floats."""
+    big = 2**62 + (i * 7919) % 1000
+    return {"big": big, "wave": float((i * 37) % 11), "mix": i if i % 3 else i + 0.5}
+
+
+async def both_backends(db: PostgresDatabase, folder: Path) -> AsyncIterator[HistoryStore]:
+    """The PostgreSQL store and the SQLite one, each with the same 500 samples in batches of
+    10 with out-of-order times."""
+    sqlite = SqliteHistory(folder / "data", "normal")
+    await sqlite.open()
+    try:
+        for store in (PostgresHistory(db), sqlite):
+            for b in range(50):
+                times = [T + ((b * 10 + k) * 7_919 % 500) * S // 10 for k in range(10)]
+                await write(store, [(t, _column(b * 10 + k)) for k, t in enumerate(times)])
+            yield store
+    finally:
+        await sqlite.close()
+
+
+async def test_aggregates_are_the_sqlite_backend_s(db: PostgresDatabase, tmp_path: Path) -> None:
+    fns = ["avg", "min", "max", "count", "first", "last", "sum"]
+    answers = [
+        await store.aggregate(TWIN, STREAM, None, T - 3 * S, T + 60 * S, 7 * S, fns)
+        async for store in both_backends(db, tmp_path)
+    ]
+    assert answers[0] == answers[1]
+    assert isinstance(answers[0].rows[0]["values"]["big"]["sum"], int)
+
+
+@pytest.mark.parametrize("method", ["minmax", "lttb"])
+async def test_downsamples_are_the_sqlite_backend_s(
+    db: PostgresDatabase, tmp_path: Path, method: str
+) -> None:
+    answers = [
+        await store.downsample(TWIN, STREAM, None, T, T + 50 * S, 24, method)
+        async for store in both_backends(db, tmp_path)
+    ]
+    assert answers[0].keys() == answers[1].keys() == {"big", "mix", "wave"}
+    for name, got in answers[0].items():
+        want = answers[1][name]
+        assert got.times.tolist() == want.times.tolist(), name
+        assert got.values.tolist() == want.values.tolist(), name
+        assert got.values.dtype == want.values.dtype, name
