@@ -212,6 +212,7 @@ async def test_an_export_of_many_pages_is_the_sqlite_backend_s_byte_for_byte(
     db: PostgresDatabase, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: str
 ) -> None:
     monkeypatch.setattr(export, "PAGE_ROWS", 7)  # pages end inside runs of equal times
+    rows: list[tuple[int, dict[str, Value]]]
     rows = [(T + (i // 3) * S, {"x": i, "y": f"v,{i}", "z": i / 4}) for i in range(60)]
     rows += [(T + 5 * S, {"x": -1}), (T + 5 * S, {"x": -2, "z": True})]  # late, equal times
     sqlite = SqliteHistory(tmp_path / "data", "normal")
