@@ -41,8 +41,8 @@ from twinlink.store.history import HistoryStore
 from twinlink.store.postgres.commands import PostgresCommands
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.history import PostgresHistory
+from twinlink.store.postgres.metadata import PostgresMetadataStore
 from twinlink.store.postgres.properties import PostgresProperties
-from twinlink.store.sqlite import SqliteStore
 
 SQLITE_ONLY = frozenset({"sqlite_history"})  # fixtures of tests of SQLite's own workings
 START_S = 60.0  # a cold initdb and start on a busy 2-core machine take a few seconds
@@ -176,8 +176,7 @@ async def postgres_dsn(postgres_cluster: PostgresCluster) -> AsyncIterator[str]:
 
 class PostgresBackend:
     """The PostgreSQL backend for the service-level tests (`tests.unit._storage.Backend`):
-    history, commands and properties in the database at `dsn`. Metadata stays in SQLite
-    in `folder`: it has no PostgreSQL store yet."""
+    metadata, history, commands and properties in the database at `dsn`."""
 
     def __init__(self, dsn: str) -> None:
         self.dsn = dsn
@@ -186,7 +185,7 @@ class PostgresBackend:
     async def stores(self, folder: Path) -> AsyncIterator[Stores]:
         db = PostgresDatabase(self.dsn)
         stores = Stores(
-            SqliteStore(folder / "data"), PostgresHistory(db), PostgresCommands(db),
+            PostgresMetadataStore(db), PostgresHistory(db), PostgresCommands(db),
             PostgresProperties(db),
         )  # fmt: skip
         async with opened(db, stores.metadata, stores.history, stores.commands, stores.properties):
