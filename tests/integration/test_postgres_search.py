@@ -200,3 +200,22 @@ async def test_words_are_split_and_folded_as_unicode61_does(store: PostgresMetad
     assert await total("run") == 1 and await total("pump") == 1  # prefixes
     assert await total("running", "pumping") == 0  # every word, and nothing stemmed
     assert await total("_") == 0 and await total("2025") == 0
+
+
+async def test_text_past_what_a_tsvector_holds_is_stored_and_searched(
+    store: PostgresMetadataStore,
+) -> None:
+    """PostgreSQL refuses a word over 2 046 bytes and a tsvector over 1 MiB: such a twin is
+    still stored and found by its other words, and a query of such a word finds nothing
+    instead of failing."""
+    long_word = "x" * 3000
+    many = " ".join(f"w{i}" for i in range(200_000))  # 1.3 MB of different words
+    await save(store, write("big", [row("public", None, "Big", f"first {long_word} {many}")]))
+
+    async def total(*terms: str) -> int:
+        found = await store.search(Visibility(), list(terms), keyword=None, limit=5, offset=0)
+        return found.total
+
+    assert await total("big") == 1 and await total("first") == 1 and await total("w1") == 1
+    assert await total(long_word) == 0 and await total("big", long_word) == 0
+    assert await total("w199999") == 0  # past the limit, left out of the index

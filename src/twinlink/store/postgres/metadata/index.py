@@ -22,28 +22,42 @@ DOC_WEIGHTS = "{0.2, 0.5, 0.6, 1.0}"
 EXTRA_WEIGHT = 0.1
 _MAX_LEXEME_BYTES = 2046  # PostgreSQL refuses a longer word; such a word is not indexed
 _MAX_POSITION = 16383  # PostgreSQL keeps positions up to this
+_MAX_POSITIONS = 256  # and this many positions of one word
+# A tsvector may not pass 1 MiB; past this estimate of its size, new words are left out
+# (a part whose text holds some 100 000 different words), instead of the write failing.
+_MAX_TSVECTOR_BYTES = 1_000_000
 
 
 def tsvector(fields: list[tuple[str, str]]) -> str:
     """A tsvector literal of (text, weight letter) fields, words numbered in order."""
-    out: list[str] = []
+    found: dict[str, list[str]] = {}
+    size = 0
     position = 0
     for text, weight in fields:
         for word in words(text):
             position = min(position + 1, _MAX_POSITION)
-            if len(word.encode()) <= _MAX_LEXEME_BYTES:
-                out.append(f"{_quoted(word)}:{position}{weight}")
+            positions = found.get(word)
+            if positions is None:
+                length = len(word.encode())
+                if length > _MAX_LEXEME_BYTES or size + length > _MAX_TSVECTOR_BYTES:
+                    continue
+                size += length + 8  # the word's entry and its count of positions
+                positions = found[word] = []
+            if len(positions) < _MAX_POSITIONS:
+                positions.append(f"{position}{weight}")
+                size += 2
         position = min(position + 1, _MAX_POSITION)  # no phrase across two fields
-    return " ".join(out)
+    return " ".join(f"{_quoted(w)}:{','.join(p)}" for w, p in found.items())
 
 
 def term_query(term: str, prefix: bool, weights: str = "") -> str | None:
     """One query word as a tsquery literal: a phrase of its words (`a_b` is `a <-> b`), the
     last one a prefix when `prefix` and the word has two letters or more (one letter as a
-    prefix would match nearly everything). None when it holds no word at all ("_")."""
+    prefix would match nearly everything). None when it holds no word at all ("_"), or one
+    too long to be indexed (PostgreSQL keeps words of up to 2 046 bytes)."""
     found = words(term)
-    if not found:
-        return None
+    if not found or any(len(w.encode()) > _MAX_LEXEME_BYTES for w in found):
+        return None  # no word, or one too long to be in the index: it matches nothing
     star = "*" if prefix and len(term) > 1 else ""
     lexemes = [f"{_quoted(w)}:{weights}" if weights else _quoted(w) for w in found]
     last = found[-1]

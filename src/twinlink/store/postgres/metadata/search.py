@@ -117,7 +117,7 @@ class _Search:
         matches follow them unranked: a query that broad is narrowed by the next word typed,
         and its answer stays fast."""
         if any(term_query(t, prefix=False) is None for t in terms):
-            return [], 0  # a word with no letters or digits ("_"): as in FTS5, no match
+            return [], 0  # a word with no letters or digits ("_"), as in FTS5, or too long
         args = Args()
         where = self._match(terms, args) + self._filters(args)
         row = await self.conn.fetchrow(
