@@ -13,7 +13,7 @@ from tests.integration._postgres import postgres_cluster as postgres_cluster
 from tests.integration._postgres import postgres_dsn as postgres_dsn
 from tests.unit import test_sqlite_store
 from tests.unit.test_sqlite_store import row, save, write
-from twinlink.domain.errors import ConflictError, WriteConflictError
+from twinlink.domain.errors import ConflictError, InvalidInputError, WriteConflictError
 from twinlink.domain.records import AuditEntry, Edge, ServiceRecord, Visibility
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.metadata import PostgresMetadataStore
@@ -239,3 +239,17 @@ async def test_the_audit_log_keeps_entries_of_twins_that_are_gone(
     [kept] = await store.list_audit({"twins": ["t"], "since_ns": 5, "until_ns": 6}, limit=5)
     assert kept.upstream_ms is None and kept.total_ms == 3.5 and kept.id > 0
     assert await store.ping()
+
+
+async def test_text_with_a_nul_character_is_refused_saying_so(
+    store: PostgresMetadataStore,
+) -> None:
+    """PostgreSQL's text cannot hold U+0000 (SQLite's can): a 422 that says so, not a 500,
+    and nothing of the write stored."""
+    with pytest.raises(InvalidInputError, match="NUL"):
+        await save(store, write("t", [row("public", None, "T", "a \x00 b")]))
+    assert await store.count_twins() == 0
+    with pytest.raises(InvalidInputError, match="NUL"):
+        await store.list_twins(Visibility(), limit=5, after_slug="\x00weird")
+    with pytest.raises(InvalidInputError, match="NUL"):
+        await store.search(Visibility(), ["t"], keyword="\x00", limit=5, offset=0)

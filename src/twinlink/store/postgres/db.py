@@ -20,7 +20,12 @@ from importlib import resources
 import asyncpg
 from asyncpg.pool import PoolConnectionProxy
 
-from twinlink.domain.errors import StorageError, StorageFullError, WriteConflictError
+from twinlink.domain.errors import (
+    InvalidInputError,
+    StorageError,
+    StorageFullError,
+    WriteConflictError,
+)
 
 log = logging.getLogger("twinlink.store")
 
@@ -37,6 +42,12 @@ UNREACHABLE = (
 FULL = (
     "The server's database (PostgreSQL) is out of disk space: nothing of this was stored. "
     "Retry once an administrator has freed disk space."
+)
+
+# SQLite stores text with a NUL character; PostgreSQL's text cannot hold one at all.
+NUL = (
+    "Text with a NUL character (U+0000) cannot be stored or looked up in this server's "
+    "database (PostgreSQL): remove the character and send it again."
 )
 
 
@@ -104,6 +115,8 @@ def translate(err: BaseException) -> BaseException:
     mapped: BaseException
     if isinstance(err, asyncpg.UniqueViolationError):
         mapped = WriteConflictError()
+    elif isinstance(err, asyncpg.CharacterNotInRepertoireError):
+        mapped = InvalidInputError(NUL)
     elif isinstance(err, asyncpg.DiskFullError):
         mapped = StorageFullError(FULL)
     elif isinstance(err, _UNAVAILABLE):
@@ -154,7 +167,11 @@ class PostgresDatabase:
         try:
             async with self.pool.acquire() as conn:
                 yield conn
-        except (*_UNAVAILABLE, asyncpg.UniqueViolationError) as err:
+        except (
+            *_UNAVAILABLE,
+            asyncpg.UniqueViolationError,
+            asyncpg.CharacterNotInRepertoireError,
+        ) as err:
             raise translate(err) from err
 
     @asynccontextmanager
