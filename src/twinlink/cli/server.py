@@ -45,11 +45,31 @@ def _add_server_options(fn: F, data_dir_default: str) -> F:
 
 @click.command()
 @_server_options("./twinlink-data")
-def up(host: str | None, port: int | None, data_dir: Path | None, config_file: str | None) -> None:
-    """Run the twinlink server."""
+@click.option(
+    "--store-url",
+    help="PostgreSQL database shared by the nodes, postgresql://user:password@host:port/db. "
+    "Env: TWINLINK_STORE_URL [default: the embedded SQLite store in the data folder].",
+)
+@click.option(
+    "--bus-url",
+    help="Apache Kafka brokers shared by the nodes, kafka://host:port[,host:port...]. "
+    "Env: TWINLINK_BUS_URL [default: the in-process bus].",
+)
+def up(
+    host: str | None,
+    port: int | None,
+    data_dir: Path | None,
+    config_file: str | None,
+    store_url: str | None,
+    bus_url: str | None,
+) -> None:
+    """Run the twinlink server (alone, or as one node of several: docs/scale-out.md)."""
     from twinlink.server import serve
 
-    serve(load_settings(config_file, host=host, port=port, data_dir=data_dir))
+    settings = load_settings(
+        config_file, host=host, port=port, data_dir=data_dir, store_url=store_url, bus_url=bus_url
+    )
+    serve(settings)
 
 
 @click.command()
