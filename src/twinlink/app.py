@@ -7,7 +7,7 @@ import logging
 from collections.abc import AsyncIterator, Awaitable, Callable
 from contextlib import AbstractAsyncContextManager, asynccontextmanager
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from fastapi import FastAPI
 
@@ -37,7 +37,7 @@ from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.auth.vault import Vault
 from twinlink.bus import Bus, MemoryBus
 from twinlink.commands import CommandService, PropertyService
-from twinlink.config import Settings
+from twinlink.config import Settings, kafka_bootstrap
 from twinlink.connectors.metrics import ConnectorCollector
 from twinlink.connectors.service import ConnectorService
 from twinlink.gateway.metrics import GatewayCollector
@@ -76,10 +76,19 @@ log = logging.getLogger("twinlink.app")
 GC_THRESHOLDS = (10_000, 10, 100)
 
 
+class Shared(Protocol):
+    """What the stores of a backend share (PostgreSQL's pool of connections)."""
+
+    async def open(self) -> None: ...
+
+    async def close(self) -> None: ...
+
+
 @dataclass(frozen=True, slots=True)
 class Storage:
     """The stores in use, each behind its protocol (store/). Picking their implementation is
-    this module's alone: SQLite files in the data dir today, PostgreSQL next to it later."""
+    this module's alone: SQLite files in the data dir (the default) or one PostgreSQL
+    database (TWINLINK_STORE_URL)."""
 
     metadata: MetadataStore
     history: HistoryStore
@@ -87,6 +96,15 @@ class Storage:
     properties: PropertyStore
     # The backend's own counters for /metrics: group commits, writes failed by kind.
     figures: Callable[[], dict[str, int]]
+    # Opened before the stores and closed after them; None when each opens its own files.
+    shared: Shared | None = None
+
+
+def pick_storage(settings: Settings) -> Storage:
+    """The stores TWINLINK_STORE_URL names: PostgreSQL's, or the embedded SQLite files."""
+    if settings.store_url.get_secret_value():
+        return postgres_storage(settings)
+    return sqlite_storage(settings)
 
 
 def sqlite_storage(settings: Settings) -> Storage:
@@ -121,6 +139,52 @@ def sqlite_storage(settings: Settings) -> Storage:
     )
 
 
+def postgres_storage(settings: Settings) -> Storage:
+    """The scale-out stores: every table in the one PostgreSQL database at TWINLINK_STORE_URL,
+    which every node shares (docs/scale-out.md); the stores share one pool of connections."""
+    # Imported here: the embedded default does not load asyncpg and this backend's modules.
+    from twinlink.store.postgres.commands import PostgresCommands
+    from twinlink.store.postgres.db import PostgresDatabase
+    from twinlink.store.postgres.history import PostgresHistory
+    from twinlink.store.postgres.history import ReadLimits as PostgresReadLimits
+    from twinlink.store.postgres.metadata import PostgresMetadataStore
+    from twinlink.store.postgres.properties import PostgresProperties
+
+    db = PostgresDatabase(settings.store_url.get_secret_value())
+    history = PostgresHistory(
+        db,
+        max_signals_per_stream=settings.max_signals_per_stream,
+        limits=PostgresReadLimits(
+            timeout_s=settings.history_query_timeout_s,
+            export_timeout_s=settings.history_export_timeout_s,
+            max_values=settings.history_query_max_values,
+        ),
+    )
+
+    def figures() -> dict[str, int]:
+        # Not counted by this backend: each batch is a transaction of its own (no group
+        # commits), and a full disk or a failed write is the server's, in its own log.
+        return {"history_commits": 0, "storage_full": 0, "storage_io_errors": 0}
+
+    return Storage(
+        metadata=PostgresMetadataStore(db),
+        history=history,
+        commands=PostgresCommands(db),
+        properties=PostgresProperties(db),
+        figures=figures,
+        shared=db,
+    )
+
+
+def pick_bus(settings: Settings) -> Bus:
+    """The bus TWINLINK_BUS_URL names: Kafka's, shared by every node, or the in-process one."""
+    if settings.bus_url:
+        from twinlink.bus.kafka import KafkaBus  # loads aiokafka: only when it is used
+
+        return KafkaBus(kafka_bootstrap(settings.bus_url))
+    return MemoryBus()
+
+
 @dataclass(slots=True)
 class Services:
     store: MetadataStore
@@ -133,6 +197,7 @@ class Services:
     command_store: CommandStore
     property_store: PropertyStore
     storage_figures: Callable[[], dict[str, int]]
+    storage_shared: Shared | None
     ingest: IngestService
     device_hub: DeviceHub
     commands: CommandService
@@ -148,15 +213,15 @@ class Services:
 
 
 def build_services(settings: Settings) -> Services:
-    storage = sqlite_storage(settings)
-    store, history = storage.metadata, storage.history
+    stores = pick_storage(settings)
+    store, history = stores.metadata, stores.history
     registry = RegistryService(store, settings.base_url)
-    bus = MemoryBus()
+    bus = pick_bus(settings)
     hub = DeviceHub()
     maintenance = HistoryMaintenance(history, settings.history_retention_days)
     registry.deleted_listeners.append(maintenance.twins_deleted)
     ingest = IngestService(registry, history, bus)
-    commands = CommandService(registry, storage.commands, hub, settings.command_timeout_s)
+    commands = CommandService(registry, stores.commands, hub, settings.command_timeout_s)
     secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
     vault = Vault.open(settings.data_dir, secret_key)
     gateway = GatewayService(
@@ -172,13 +237,14 @@ def build_services(settings: Settings) -> Services:
         devices=devices,
         bus=bus,
         history=history,
-        command_store=storage.commands,
-        property_store=storage.properties,
-        storage_figures=storage.figures,
+        command_store=stores.commands,
+        property_store=stores.properties,
+        storage_figures=stores.figures,
+        storage_shared=stores.shared,
         ingest=ingest,
         device_hub=hub,
         commands=commands,
-        properties=PropertyService(registry, storage.properties, hub),
+        properties=PropertyService(registry, stores.properties, hub),
         live=LiveHub(bus),
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,
@@ -219,6 +285,9 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
     (a step that fails stops what it started itself)."""
     started: list[Callable[[], Awaitable[object]]] = []  # how to stop each, in start order
     try:
+        if services.storage_shared is not None:  # PostgreSQL's pool, migrated, first
+            await services.storage_shared.open()
+            started.append(services.storage_shared.close)
         await services.store.open()
         started.append(services.store.close)
         services.auth.last_used.start()
@@ -279,6 +348,8 @@ async def stop_services(services: Services) -> None:
     await services.history.close()
     await services.auth.last_used.close()  # best effort: a full disk does not stop shutdown
     await services.store.close()
+    if services.storage_shared is not None:
+        await services.storage_shared.close()
 
 
 def create_app(
@@ -352,7 +423,9 @@ def _lifespan(
             # 2.6 us a sample with a server-sized heap, 1.1 us frozen; bench/processors.py).
             gc.freeze()
             gc.set_threshold(*GC_THRESHOLDS)
-            log.info("ready", extra={"event": "ready", "url": settings.base_url})
+            # the store without its password, the bus as named (it holds no credentials)
+            where = {"store": settings.store_shown, "bus": settings.bus_url or "memory"}
+            log.info("ready", extra={"event": "ready", "url": settings.base_url, **where})
             yield
         finally:
             if cleanup is not None:
