@@ -253,3 +253,20 @@ async def test_text_with_a_nul_character_is_refused_saying_so(
         await store.list_twins(Visibility(), limit=5, after_slug="\x00weird")
     with pytest.raises(InvalidInputError, match="NUL"):
         await store.search(Visibility(), ["t"], keyword="\x00", limit=5, offset=0)
+
+
+async def test_a_row_that_names_one_deleted_meanwhile_is_a_conflict(
+    store: PostgresMetadataStore,
+) -> None:
+    """As SQLite's IntegrityError: a foreign key broken by a request that ran at the same
+    time is a WriteConflictError (409, retry), not a database error."""
+    twin = await save(store, write("t", []))
+    gone = await store.create_user("gone", None, False, [], 1)
+    await store.delete_user(gone.id)
+    with pytest.raises(WriteConflictError):
+        await store.set_role(twin.id, gone.id, "viewer")
+    with pytest.raises(WriteConflictError):
+        await store.create_token(gone.id, "t", b"h", "p", "api", 1, None)
+    await store.delete_twins([twin])
+    with pytest.raises(WriteConflictError):
+        await store.put_fmu(twin.id, "m.fmu", "ab", 1, {}, None, 1)

@@ -5,8 +5,9 @@ before them and closes it after. Opening applies the migrations this version shi
 (migrations/NNNN_name.sql, in order, each in one transaction) under an advisory lock, so
 nodes that start together against one database migrate it once. A failure of the server
 or of the connection to it leaves the stores as StorageError (HTTP 503 with Retry-After),
-a full disk as StorageFullError (507), a broken unique constraint as WriteConflictError:
-no asyncpg error leaves the backend.
+a full disk as StorageFullError (507), a broken unique constraint or foreign key as
+WriteConflictError, text with a NUL character as InvalidInputError: no asyncpg error leaves
+the backend.
 """
 
 from __future__ import annotations
@@ -108,12 +109,17 @@ _UNAVAILABLE = (
     TimeoutError,
 )
 
+# A name taken, or a row named that a request running at the same time deleted. Not every
+# integrity error: history makes a partition when a row finds none (a check violation).
+_CONFLICTS = (asyncpg.UniqueViolationError, asyncpg.ForeignKeyViolationError)
+
 
 def translate(err: BaseException) -> BaseException:
     """`err` as the store's own error (chained to it) when it is the database's or the
     connection's; any other error as it is."""
     mapped: BaseException
-    if isinstance(err, asyncpg.UniqueViolationError):
+    if isinstance(err, _CONFLICTS):
+        # as SQLite's IntegrityError (sqlite/db.py): sending the request again answers it
         mapped = WriteConflictError()
     elif isinstance(err, asyncpg.CharacterNotInRepertoireError):
         mapped = InvalidInputError(NUL)
@@ -169,7 +175,7 @@ class PostgresDatabase:
                 yield conn
         except (
             *_UNAVAILABLE,
-            asyncpg.UniqueViolationError,
+            *_CONFLICTS,
             asyncpg.CharacterNotInRepertoireError,
         ) as err:
             raise translate(err) from err
