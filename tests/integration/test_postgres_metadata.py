@@ -5,6 +5,7 @@ whatever their case, unique violations as conflicts, ordering whatever the local
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import AsyncIterator
 
 import pytest
@@ -270,3 +271,20 @@ async def test_a_row_that_names_one_deleted_meanwhile_is_a_conflict(
     await store.delete_twins([twin])
     with pytest.raises(WriteConflictError):
         await store.put_fmu(twin.id, "m.fmu", "ab", 1, {}, None, 1)
+
+
+async def test_two_writers_cannot_each_add_half_of_a_cycle(store: PostgresMetadataStore) -> None:
+    """Two saves at once (two nodes), each declaring one edge of a cycle: one is refused,
+    whichever comes second, as SQLite's one writer at a time refuses it."""
+    for n in range(5):
+        a, b = f"urn:a{n}", f"urn:b{n}"
+        first = write(f"a{n}", [], edges=[Edge(a, "parent", b, a, "public")])
+        second = write(f"b{n}", [], edges=[Edge(b, "parent", a, b, "public")])
+        results = await asyncio.gather(
+            store.save_twins([first]), store.save_twins([second]), return_exceptions=True
+        )
+        refused = [r for r in results if isinstance(r, ConflictError)]
+        assert len(refused) == 1, results
+        assert await store.descendants([a], exclude="none") != await store.descendants(
+            [b], exclude="none"
+        )

@@ -20,6 +20,9 @@ _TWIN_COLUMNS = (
     " ARRAY(SELECT p.privacy FROM twin_parts p WHERE p.twin_id = t.id) AS levels"
 )
 _EDGE_COLUMNS = "source, kind, target, declared_by, privacy"
+# Held by a transaction that writes relations: any number that is ours alone (db.py's
+# migration lock is another).
+_RELATIONS_LOCK = 0x7477_6C6E_6B00_0010
 
 
 def _visibility_of(levels: list[str]) -> str:
@@ -125,6 +128,11 @@ class TwinTables:
         if not writes:
             return []
         async with self.db.transaction() as conn:
+            if any(w.edges for w in writes):
+                # SQLite has one writer at a time; here two nodes could each add half of a
+                # cycle, neither seeing the other's edge. Writers of relations queue here, so
+                # each checks for cycles with every edge committed before it.
+                await conn.execute("SELECT pg_advisory_xact_lock($1)", _RELATIONS_LOCK)
             ids = [await _save_one(conn, w) for w in writes]
             for w in writes:
                 if await _in_cycle(conn, w.dt_id):
