@@ -43,8 +43,11 @@ class SearchTables:
         offset: int,
         facet_limit: int = 25,
     ) -> SearchResult:
-        # One read-only snapshot: the count, the page and its matches agree.
-        async with self.db.connection() as conn, conn.transaction(readonly=True):
+        # One snapshot for all its queries: the count, the page and its matches agree.
+        async with (
+            self.db.connection() as conn,
+            conn.transaction(isolation="repeatable_read", readonly=True),
+        ):
             return await _Search(conn, vis, keyword).run(terms, limit, offset, facet_limit)
 
 
