@@ -36,6 +36,7 @@ from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.auth.vault import Vault
 from twinlink.bus import Bus, MemoryBus
+from twinlink.cluster import CacheSync
 from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings, kafka_bootstrap
 from twinlink.connectors.metrics import ConnectorCollector
@@ -210,6 +211,8 @@ class Services:
     gateway: GatewayService
     connectors: ConnectorService
     mqtt: MqttService
+    # Tells the other nodes of changes to what their caches hold (on a shared bus only).
+    cache_sync: CacheSync | None = None
 
 
 def build_services(settings: Settings) -> Services:
@@ -229,9 +232,11 @@ def build_services(settings: Settings) -> Services:
     )
     last_used = LastUsed(store)  # of tokens and devices, written behind the requests
     devices = DeviceService(store, registry, last_used, settings.device_token_recheck_s)
+    auth = AuthService(store, settings.session_ttl_s, last_used)
+    shared_bus = bool(settings.bus_url)  # other nodes may share the store: tell them of changes
     return Services(
         store=store,
-        auth=AuthService(store, settings.session_ttl_s, last_used),
+        auth=auth,
         registry=registry,
         search=SearchService(store),
         devices=devices,
@@ -264,6 +269,7 @@ def build_services(settings: Settings) -> Services:
         gateway=gateway,
         connectors=ConnectorService(store, registry, devices, hub, ingest, vault),
         mqtt=MqttService(settings, devices, hub, ingest),
+        cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
     )
 
 
@@ -302,6 +308,9 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
         started += [services.commands.close, services.properties.close]
         await services.bus.start()
         started.append(services.bus.stop)
+        if services.cache_sync is not None:
+            services.cache_sync.start()
+            started.append(services.cache_sync.stop)
         await services.history_maintenance.sweep_orphans(await services.store.twin_ids())
         services.history_maintenance.start()
         started.append(services.history_maintenance.stop)
@@ -339,6 +348,8 @@ async def stop_services(services: Services) -> None:
     await services.gateway.close()
     await services.processors.close()
     services.live.close()
+    if services.cache_sync is not None:
+        await services.cache_sync.stop()
     await services.bus.stop()
     await services.properties.close()
     await services.commands.close()

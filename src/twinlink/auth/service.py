@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -99,6 +99,8 @@ class AuthService:
         # token hash -> (token, user, when cached: monotonic s); see the module's doc
         self._tokens: dict[bytes, tuple[ApiToken, User, float]] = {}
         self.generation = 0  # bumped after every change of tokens or users
+        # Called after every change, so other nodes' caches hear of it (cluster.py).
+        self.changed_listeners: list[Callable[[], None]] = []
 
     @contextmanager
     def _changing(self) -> Iterator[None]:
@@ -107,8 +109,15 @@ class AuthService:
         try:
             yield
         finally:
-            self.generation += 1
-            self._tokens.clear()
+            self.forget_cached()
+            for listener in self.changed_listeners:
+                listener()
+
+    def forget_cached(self) -> None:
+        """No cached token answer survives, nor one being read now: after a change here, or
+        one another node made (cluster.py)."""
+        self.generation += 1
+        self._tokens.clear()
 
     async def _find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None:
         cached = self._tokens.get(token_hash)

@@ -4,6 +4,7 @@ makes on every request (cached, so a forwarded request costs no database read)."
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
@@ -37,6 +38,8 @@ class GatewayService:
         self.pool = Pool()
         self.audit = AuditLog(store, audit_days)
         self.generation = 0  # bumped on every change of a service's settings
+        # Called after every change, so other nodes' caches hear of it (cluster.py).
+        self.changed_listeners: list[Callable[[], None]] = []
         self._cache: dict[int, tuple[tuple[int, int], dict[str, Service]]] = {}
         self.health = HealthLoop(self)
 
@@ -55,6 +58,8 @@ class GatewayService:
 
     def changed(self) -> None:
         self.generation += 1
+        for listener in self.changed_listeners:
+            listener()
 
     # -- the proxy's lookups ---------------------------------------------------------------
 

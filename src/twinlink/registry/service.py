@@ -39,6 +39,8 @@ class RegistryService:
         self.generation = 0
         # Called with the ids of deleted twins, so other stores can drop what they hold.
         self.deleted_listeners: list[Callable[[list[int]], None]] = []
+        # Called after every change, so other nodes' caches hear of it (cluster.py).
+        self.changed_listeners: list[Callable[[], None]] = []
         self._twins: GenerationCache[str, TwinRecord] = GenerationCache(self._generation)
         # Keyed by the user's creation time too: a deleted user's id may be given again.
         # No role is cached as "".
@@ -51,6 +53,8 @@ class RegistryService:
         """Something twins, roles or devices depend on has changed (call it after the write):
         every cache of derived data starts again."""
         self.generation += 1
+        for listener in self.changed_listeners:
+            listener()
 
     def canonical_url(self, slug: str) -> str:
         return f"{self.base_url}/twins/{slug}"
