@@ -7,7 +7,7 @@ import logging
 from collections.abc import AsyncIterator, Awaitable, Callable
 from contextlib import AbstractAsyncContextManager, asynccontextmanager
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any
 
 from fastapi import FastAPI
 
@@ -35,10 +35,11 @@ from twinlink.api import mqtt as mqtt_api
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.auth.vault import Vault
-from twinlink.bus import Bus, MemoryBus
+from twinlink.backends import Shared, pick_bus, pick_storage
+from twinlink.bus import Bus
 from twinlink.cluster import CacheSync
 from twinlink.commands import CommandService, PropertyService
-from twinlink.config import Settings, kafka_bootstrap
+from twinlink.config import Settings
 from twinlink.connectors.metrics import ConnectorCollector
 from twinlink.connectors.service import ConnectorService
 from twinlink.gateway.metrics import GatewayCollector
@@ -61,11 +62,6 @@ from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
 from twinlink.store.commands import CommandStore, PropertyStore
 from twinlink.store.history import HistoryStore
-from twinlink.store.sqlite import SqliteStore
-from twinlink.store.sqlite.commands import SqliteCommands
-from twinlink.store.sqlite.faults import StorageFaults
-from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
-from twinlink.store.sqlite.properties import SqliteProperties
 
 log = logging.getLogger("twinlink.app")
 
@@ -75,115 +71,6 @@ log = logging.getLogger("twinlink.app")
 # the event loop under 4 000 small batches a second, growing with the backlog they caused
 # (bench/live.py, steady fleet; docs/decisions/0010-gc-and-small-batches.md).
 GC_THRESHOLDS = (10_000, 10, 100)
-
-
-class Shared(Protocol):
-    """What the stores of a backend share (PostgreSQL's pool of connections)."""
-
-    async def open(self) -> None: ...
-
-    async def close(self) -> None: ...
-
-
-@dataclass(frozen=True, slots=True)
-class Storage:
-    """The stores in use, each behind its protocol (store/). Picking their implementation is
-    this module's alone: SQLite files in the data dir (the default) or one PostgreSQL
-    database (TWINLINK_STORE_URL)."""
-
-    metadata: MetadataStore
-    history: HistoryStore
-    commands: CommandStore
-    properties: PropertyStore
-    # The backend's own counters for /metrics: group commits, writes failed by kind.
-    figures: Callable[[], dict[str, int]]
-    # Opened before the stores and closed after them; None when each opens its own files.
-    shared: Shared | None = None
-
-
-def pick_storage(settings: Settings) -> Storage:
-    """The stores TWINLINK_STORE_URL names: PostgreSQL's, or the embedded SQLite files."""
-    if settings.store_url.get_secret_value():
-        return postgres_storage(settings)
-    return sqlite_storage(settings)
-
-
-def sqlite_storage(settings: Settings) -> Storage:
-    """The embedded stores: metadata.db and history.db in the data dir (the command log and
-    properties share history.db's writer and its commits)."""
-    faults = StorageFaults()  # disk failures of both files, counted for /metrics
-    history = SqliteHistory(
-        settings.data_dir,
-        settings.history_sync,
-        max_signals_per_stream=settings.max_signals_per_stream,
-        faults=faults,
-        limits=ReadLimits(
-            timeout_s=settings.history_query_timeout_s,
-            export_timeout_s=settings.history_export_timeout_s,
-            max_values=settings.history_query_max_values,
-        ),
-    )
-
-    def figures() -> dict[str, int]:
-        return {
-            "history_commits": history.writer.commits,
-            "storage_full": faults.counts["full"],
-            "storage_io_errors": faults.counts["io"],
-        }
-
-    return Storage(
-        metadata=SqliteStore(settings.data_dir, faults),
-        history=history,
-        commands=SqliteCommands(history),
-        properties=SqliteProperties(history),
-        figures=figures,
-    )
-
-
-def postgres_storage(settings: Settings) -> Storage:
-    """The scale-out stores: every table in the one PostgreSQL database at TWINLINK_STORE_URL,
-    which every node shares (docs/scale-out.md); the stores share one pool of connections."""
-    # Imported here: the embedded default does not load asyncpg and this backend's modules.
-    from twinlink.store.postgres.commands import PostgresCommands
-    from twinlink.store.postgres.db import PostgresDatabase
-    from twinlink.store.postgres.history import PostgresHistory
-    from twinlink.store.postgres.history import ReadLimits as PostgresReadLimits
-    from twinlink.store.postgres.metadata import PostgresMetadataStore
-    from twinlink.store.postgres.properties import PostgresProperties
-
-    db = PostgresDatabase(settings.store_url.get_secret_value())
-    history = PostgresHistory(
-        db,
-        max_signals_per_stream=settings.max_signals_per_stream,
-        limits=PostgresReadLimits(
-            timeout_s=settings.history_query_timeout_s,
-            export_timeout_s=settings.history_export_timeout_s,
-            max_values=settings.history_query_max_values,
-        ),
-    )
-
-    def figures() -> dict[str, int]:
-        # Not counted by this backend: each batch is a transaction of its own (no group
-        # commits), and a full disk or a failed write is the server's, in its own log.
-        return {"history_commits": 0, "storage_full": 0, "storage_io_errors": 0}
-
-    return Storage(
-        metadata=PostgresMetadataStore(db),
-        history=history,
-        commands=PostgresCommands(db),
-        properties=PostgresProperties(db),
-        figures=figures,
-        shared=db,
-    )
-
-
-def pick_bus(settings: Settings) -> Bus:
-    """The bus TWINLINK_BUS_URL names: Kafka's, shared by every node, or the in-process one."""
-    if settings.bus_url:
-        from twinlink.bus.kafka import KafkaBus  # loads aiokafka: only when it is used
-
-        return KafkaBus(kafka_bootstrap(settings.bus_url))
-    return MemoryBus()
 
 
 @dataclass(slots=True)
@@ -226,6 +113,15 @@ def build_services(settings: Settings) -> Services:
     ingest = IngestService(registry, history, bus)
     commands = CommandService(registry, stores.commands, hub, settings.command_timeout_s)
     secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
+    if secret_key is None and settings.store_url.get_secret_value():
+        # Each node would make a key of its own in its data dir, and read none of the
+        # credentials the other nodes stored in the shared database.
+        log.warning(
+            "TWINLINK_STORE_URL is set but TWINLINK_SECRET_KEY is not: the gateway's stored "
+            "credentials are encrypted with a key in this node's data dir, which other nodes "
+            "do not have; give every node the same TWINLINK_SECRET_KEY (docs/scale-out.md)",
+            extra={"event": "secret_key_per_node"},
+        )
     vault = Vault.open(settings.data_dir, secret_key)
     gateway = GatewayService(
         store, registry, vault, settings.gateway_default_twin, settings.gateway_audit_days
