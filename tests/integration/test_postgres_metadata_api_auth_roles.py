@@ -1,0 +1,16 @@
+"""The server tests of tests/integration/test_auth_roles.py on a `twinlink up` server whose
+store is PostgreSQL (_postgres_server.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.integration import test_auth_roles
+from tests.integration._postgres import postgres_cluster as postgres_cluster
+from tests.integration._postgres import rerun_on_postgres
+from tests.integration._postgres_server import database as database
+from tests.integration._postgres_server import server as server
+
+pytestmark = pytest.mark.integration
+
+rerun_on_postgres(test_auth_roles, globals())
