@@ -63,7 +63,7 @@ def up(
     store_url: str | None,
     bus_url: str | None,
 ) -> None:
-    """Run the twinlink server (alone, or as one node of several: docs/scale-out.md)."""
+    """Run the twinlink server."""
     from twinlink.server import serve
 
     settings = load_settings(
