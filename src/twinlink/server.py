@@ -6,7 +6,8 @@ import contextlib
 import logging
 import socket
 import sys
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, MutableMapping
+from typing import Any
 
 import uvicorn
 from fastapi import FastAPI
@@ -14,6 +15,7 @@ from fastapi import FastAPI
 from twinlink.app import Services, create_app, outermost
 from twinlink.auth.service import Bootstrap
 from twinlink.config import ConfigError, Settings
+from twinlink.domain.errors import TwinlinkError
 from twinlink.logs import setup_logging
 
 
@@ -125,7 +127,7 @@ def serve(
 
 def _uvicorn_config(app: FastAPI, settings: Settings) -> uvicorn.Config:
     return uvicorn.Config(
-        outermost(app),
+        StartErrors(outermost(app)),
         log_level=settings.log_level,
         log_config=None,  # setup_logging has configured uvicorn's loggers
         access_log=settings.access_log,
@@ -140,3 +142,48 @@ def _uvicorn_config(app: FastAPI, settings: Settings) -> uvicorn.Config:
         # would otherwise hold the shutdown until it ends); the stop then takes seconds.
         timeout_graceful_shutdown=5,
     )
+
+
+Message = MutableMapping[str, Any]
+ASGIApp = Callable[
+    [Message, Callable[[], Awaitable[Message]], Callable[[Message], Awaitable[None]]],
+    Awaitable[None],
+]
+
+
+class StartErrors:
+    """A start that fails for a reason a person can act on (PostgreSQL or Kafka unreachable, a
+    broker refusing the credentials: a TwinlinkError) is logged as its message, not as the
+    traceback uvicorn logs for any other failure. Requests pass straight through."""
+
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
+
+    async def __call__(
+        self,
+        scope: Message,
+        receive: Callable[[], Awaitable[Message]],
+        send: Callable[[Message], Awaitable[None]],
+    ) -> None:
+        if scope["type"] != "lifespan":
+            return await self.app(scope, receive, send)
+        held: list[Message] = []
+
+        async def hold_failure(message: Message) -> None:
+            if message["type"] == "lifespan.startup.failed":
+                held.append(message)  # sent once the error is known, below
+            else:
+                await send(message)
+
+        try:
+            await self.app(scope, receive, hold_failure)
+        except TwinlinkError as err:
+            if held:
+                await send({"type": "lifespan.startup.failed", "message": f"cannot start: {err}"})
+            raise
+        except BaseException:
+            for message in held:
+                await send(message)
+            raise
+        for message in held:
+            await send(message)

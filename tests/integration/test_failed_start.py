@@ -7,7 +7,10 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import os
 import socket
+import subprocess
+import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -106,3 +109,26 @@ async def test_the_app_stops_its_services_when_its_ready_hook_fails(tmp_path: Pa
     tasks, threads = running()
     assert tasks - before_tasks == set()
     assert threads - before_threads == set()
+
+
+def test_twinlink_up_says_why_it_cannot_start_without_a_traceback(tmp_path: Path) -> None:
+    # a PostgreSQL that cannot be reached: a reason a person can act on, so one clear line
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        closed = sock.getsockname()[1]  # nothing listens here once the socket is closed
+    env = {
+        **os.environ,
+        "TWINLINK_DATA_DIR": str(tmp_path),
+        "TWINLINK_STORE_URL": f"postgresql://twin:pa55word@127.0.0.1:{closed}/twinlink",
+        "TWINLINK_MQTT_MODE": "off",
+    }
+    done = subprocess.run(
+        [sys.executable, "-m", "twinlink", "up", "--port", "0"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode != 0
+    assert "cannot start: Cannot connect to PostgreSQL" in done.stderr
+    assert "Traceback" not in done.stderr and "pa55word" not in done.stderr
