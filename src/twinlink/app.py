@@ -111,7 +111,9 @@ def build_services(settings: Settings) -> Services:
     maintenance = HistoryMaintenance(history, settings.history_retention_days)
     registry.deleted_listeners.append(maintenance.twins_deleted)
     ingest = IngestService(registry, history, bus)
-    commands = CommandService(registry, stores.commands, hub, settings.command_timeout_s)
+    # On a shared bus, commands reach devices connected to other nodes (commands/relay.py).
+    relay_bus = bus if settings.bus_url else None
+    commands = CommandService(registry, stores.commands, hub, settings.command_timeout_s, relay_bus)
     secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
     if secret_key is None and settings.store_url.get_secret_value():
         # Each node would make a key of its own in its data dir, and read none of the

@@ -9,7 +9,8 @@ again when the server starts.
 A device is online while it has a WebSocket session or an HTTP long poll is waiting. Offline,
 a command without `queue` fails at once ("device offline"); with `queue` it is sent when the
 device connects (or polls), until it expires. Which device a command goes to when it names
-none: `targets.py`.
+none: `targets.py`. On a shared bus (several nodes), `relay.py` hands a command to the node
+holding its device, and brings back what the device answers.
 """
 
 from __future__ import annotations
@@ -21,7 +22,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
+from twinlink.bus import Bus
 from twinlink.commands.interfaces import InterfaceRules
+from twinlink.commands.relay import CommandRelay
 from twinlink.commands.rules import check_command
 from twinlink.commands.targets import DeviceTargets
 from twinlink.commands.write_behind import WriteBehind
@@ -51,7 +54,10 @@ class CommandService:
         store: CommandStore,
         hub: DeviceHub,
         default_timeout_s: float,
+        shared_bus: Bus | None = None,
     ) -> None:
+        """`shared_bus`: the bus other nodes share (Kafka), over which commands reach their
+        devices' nodes; None on one node (embedded), where nothing of that runs."""
         self.registry = registry
         self.hub = hub
         self.store = store
@@ -67,6 +73,9 @@ class CommandService:
         hub.handle("result", self._on_result)
         hub.on_connect(self._on_connect)
         registry.deleted_listeners.append(self._twins_deleted)
+        self.relay: CommandRelay | None = None
+        if shared_bus is not None:
+            self.relay = CommandRelay(shared_bus, hub, self._remote_event, self._queued_for)
 
     async def open(self) -> None:
         """Take up the commands a previous run left open (the store is open)."""
@@ -77,11 +86,15 @@ class CommandService:
                 self.log.save(record)
             else:
                 self._track(record)
+        if self.relay is not None:
+            self.relay.start()
 
     async def close(self) -> None:
         """Stop the timers and write what is unsaved; open commands stay open in the log."""
         for live in self._live.values():
             live.timer.cancel()
+        if self.relay is not None:
+            await self.relay.stop()
         if self._tasks:
             await asyncio.gather(*self._tasks, return_exceptions=True)
         await self.log.close()  # best effort: a full disk does not fail the shutdown
@@ -119,7 +132,11 @@ class CommandService:
         )  # fmt: skip
         live = self._track(record)
         self.log.save(record)
-        if not self._push(record) and not queue:
+        pushed = self._push(record)
+        if not pushed and self.relay is not None:  # the device may be on another node
+            # A queued command waits for no answer: it stays pending either way.
+            pushed = await self.relay.push(record, wait=not queue)
+        if not pushed and not queue:
             self._settle(live, record.fail(OFFLINE, now))
             return record
         if queue:
@@ -184,6 +201,8 @@ class CommandService:
         live = self._live.get(command_id)
         if live is not None and live.record.device_id == device.id:
             self._settle(live, live.record.finish(status, result, error, now))
+            if self.relay is not None:  # for the other nodes tracking it
+                self.relay.announce(device, _result_message(command_id, status, result, error))
             return live.record
         record = await self._find(command_id)
         if record is None or record.device_id != device.id:
@@ -227,12 +246,24 @@ class CommandService:
             and live.record.deliver(time.time_ns())
         ):
             self.log.save(live.record)
+        if self.relay is not None and (
+            live is not None or self.relay.holds(_command_id(message), session.device)
+        ):
+            self.relay.announce(session.device, message)  # the node that sent it tracks it
         return None
 
     async def _on_result(
         self, session: DeviceSession, message: dict[str, Any]
     ) -> dict[str, Any] | None:
         status, result, error = read_result(message)
+        command_id = _command_id(message)
+        if (
+            self.relay is not None
+            and command_id not in self._live
+            and self.relay.holds(command_id, session.device)
+        ):  # sent here for another node, which tracks it
+            self.relay.announce(session.device, _result_message(command_id, status, result, error))
+            return None
         try:
             await self.record_result(session.device, _command_id(message), status, result, error)
         except NotFoundError as err:
@@ -252,6 +283,37 @@ class CommandService:
                 and record.created_ns >= device.created_ns
             ):
                 session.send(record.message())
+                if self.relay is not None:
+                    self.relay.sent(record, session)
+        if self.relay is not None:  # the queued commands other nodes hold for it
+            self.relay.connected(device)
+
+    # -- other nodes (a shared bus) --------------------------------------------------------
+
+    def _remote_event(self, message: dict[str, Any]) -> None:
+        """What a device answered on another node, for a command this node tracks."""
+        live = self._live.get(str(message.get("id")))
+        if live is None or live.record.device_id != message.get("device"):
+            return
+        now = time.time_ns()
+        if message.get("type") == "delivered":
+            if live.record.deliver(now):
+                self.log.save(live.record)
+        elif message.get("type") == "result":
+            try:
+                status, result, error = read_result(message)
+                self._settle(live, live.record.finish(status, result, error, now))
+            except ValueError:  # checked by the node it came to; not from a twinlink node
+                return
+
+    def _queued_for(self, device_id: int, device_created_ns: int) -> list[CommandRecord]:
+        return [
+            live.record
+            for live in self._by_device.get(device_id, {}).values()
+            if live.record.queued
+            and live.record.state == "pending"
+            and live.record.created_ns >= device_created_ns
+        ]
 
     # -- state -----------------------------------------------------------------------------
 
@@ -321,6 +383,10 @@ def _command_id(message: dict[str, Any]) -> str:
     if not isinstance(command_id, str) or not command_id:
         raise ValueError("`id` must be the command's id (a string)")
     return command_id
+
+
+def _result_message(command_id: str, status: str, result: Any, error: str | None) -> dict[str, Any]:
+    return {"type": "result", "id": command_id, "status": status, "result": result, "error": error}
 
 
 def read_result(body: dict[str, Any]) -> tuple[str, Any, str | None]:
