@@ -9,8 +9,10 @@ from tests.integration import test_accounts
 from tests.integration._postgres import postgres_cluster as postgres_cluster
 from tests.integration._postgres import rerun_on_postgres
 from tests.integration._postgres_server import database as database
+from tests.integration._postgres_server import drop_tests_without_server
 from tests.integration._postgres_server import server as server
 
 pytestmark = pytest.mark.integration
 
 rerun_on_postgres(test_accounts, globals())
+drop_tests_without_server(globals())

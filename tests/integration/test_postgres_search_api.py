@@ -10,7 +10,7 @@ from tests.conftest import Server
 from tests.integration import test_search
 from tests.integration._postgres import postgres_cluster as postgres_cluster
 from tests.integration._postgres import rerun_on_postgres
-from tests.integration._postgres_server import count
+from tests.integration._postgres_server import count, drop_tests_without_server
 from tests.integration._postgres_server import database as database
 from tests.integration._postgres_server import server as server
 
@@ -25,3 +25,4 @@ def test_the_twins_searched_are_in_postgresql(
 
 
 rerun_on_postgres(test_search, globals())
+drop_tests_without_server(globals())
