@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 from collections.abc import AsyncIterator
 
+import asyncpg
 import pytest
 
 from tests.integration._postgres import postgres_cluster as postgres_cluster
@@ -16,7 +17,7 @@ from tests.unit import test_sqlite_store
 from tests.unit.test_sqlite_store import row, save, write
 from twinlink.domain.errors import ConflictError, InvalidInputError, WriteConflictError
 from twinlink.domain.records import AuditEntry, Edge, ServiceRecord, Visibility
-from twinlink.store.postgres.db import PostgresDatabase
+from twinlink.store.postgres.db import PostgresDatabase, migrate
 from twinlink.store.postgres.metadata import PostgresMetadataStore
 
 # The cluster starts before the module's first test, which the hygiene check then counts.
@@ -288,3 +289,26 @@ async def test_two_writers_cannot_each_add_half_of_a_cycle(store: PostgresMetada
         assert await store.descendants([a], exclude="none") != await store.descendants(
             [b], exclude="none"
         )
+
+
+async def test_a_database_of_an_older_version_is_upgraded_keeping_its_users(
+    postgres_dsn: str,
+) -> None:
+    conn = await asyncpg.connect(postgres_dsn)
+    try:
+        applied = await migrate(conn, target=10)  # the metadata, before the search index
+        assert applied[-1] == 10
+        await conn.execute("INSERT INTO users (username, created_ns) VALUES ('Old', 1)")
+    finally:
+        await conn.close()
+    db = PostgresDatabase(postgres_dsn)
+    await db.open()  # migrates the rest
+    try:
+        store = PostgresMetadataStore(db)
+        old = await store.get_user_by_name("old")
+        assert old is not None and old.groups == [] and not old.is_admin
+        await save(store, write("crane", [row("public", None, "Crane")]))
+        found = await store.search(Visibility(), ["cra"], keyword=None, limit=5, offset=0)
+        assert [h["slug"] for h in found.hits] == ["crane"]
+    finally:
+        await db.close()
