@@ -147,7 +147,7 @@ def build_services(settings: Settings) -> Services:
         ingest=ingest,
         device_hub=hub,
         commands=commands,
-        properties=PropertyService(registry, stores.properties, hub),
+        properties=PropertyService(registry, stores.properties, hub, relay_bus),
         live=LiveHub(bus),
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,

@@ -204,3 +204,36 @@ async def test_a_sender_waiting_on_a_gets_the_result_of_a_queued_command_run_on_
             await device.next("command")
             status, cmd = await sending
     assert status == 200 and cmd["state"] == "succeeded"
+
+
+# -- desired and reported properties -----------------------------------------------------------
+
+
+def properties_url(slug: str, tail: str = "") -> str:
+    return f"/api/v1/twins/{slug}/devices/rig/properties{tail}"
+
+
+async def test_desired_values_set_on_a_reach_the_device_on_b(nodes: Nodes) -> None:
+    slug, tokens = make_twin(nodes.a)
+    async with admin_client(nodes.b) as b:  # B has the device's properties cached now
+        assert (await b.get(properties_url(slug))).json()["version"] == 0
+    async with FakeDevice(nodes.b, tokens["rig"]) as device, admin_client(nodes.a) as a:
+        r = await a.patch(properties_url(slug, "/desired"), json={"rate": 50, "mode": "eco"})
+        assert r.status_code == 200, r.text
+        sent = await device.next("desired")  # through Kafka, from node B
+        assert sent == {"type": "desired", "properties": {"rate": 50, "mode": "eco"},
+                        "version": 1}  # fmt: skip
+        # B's answer to the device's report knows the new desired values (not its old cache).
+        await device.send({"type": "reported", "id": "r1", "properties": {"rate": 50}})
+        ack = await device.next("reported_ack")
+        assert ack == {"type": "reported_ack", "version": 1, "desired": {"mode": "eco"},
+                       "id": "r1"}  # fmt: skip
+
+        async def delta_on_a() -> dict[str, Any]:
+            return (await a.get(properties_url(slug))).json()["delta"]  # type: ignore[no-any-return]
+
+        # A, which cached the device's properties when it set them, follows the report on B.
+        deadline = asyncio.get_running_loop().time() + DEADLINE_S
+        while (delta := await delta_on_a()) != {"mode": "eco"}:
+            assert asyncio.get_running_loop().time() < deadline, delta
+            await asyncio.sleep(0.05)  # polling the real state, not waiting for it to happen

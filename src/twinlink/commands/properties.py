@@ -4,16 +4,24 @@ The device learns the delta (desired values that differ from its reported ones) 
 `welcome`, in a `desired` message after every desired change, and in each `reported_ack`.
 Every change is durable (in the `PropertyStore`; with SQLite, one group commit of history.db)
 before it is acknowledged.
+
+On a shared bus (several nodes, docs/scale-out.md), each node caches the properties of the
+devices it served; after a change is stored, its node says so on `properties.{twin_id}`, and
+the others drop that device's entry, so they read it again; the node holding the device's
+session sends it the new delta when the desired values changed elsewhere. On one node (the
+memory bus) nothing is published.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
+import secrets
 import time
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
+from twinlink.bus import Bus
 from twinlink.commands.interfaces import InterfaceRules
 from twinlink.commands.rules import check_desired, check_reported
 from twinlink.domain.errors import ForbiddenError, NotFoundError, StorageError
@@ -27,7 +35,15 @@ log = logging.getLogger("twinlink.commands")
 
 
 class PropertyService:
-    def __init__(self, registry: RegistryService, store: PropertyStore, hub: DeviceHub) -> None:
+    def __init__(
+        self,
+        registry: RegistryService,
+        store: PropertyStore,
+        hub: DeviceHub,
+        shared_bus: Bus | None = None,
+    ) -> None:
+        """`shared_bus`: the bus other nodes share (Kafka), over which they hear of changes;
+        None on one node (embedded)."""
         self.registry = registry
         self.store = store
         self.hub = hub
@@ -38,6 +54,10 @@ class PropertyService:
         hub.handle("reported", self._on_reported)
         hub.welcome_extras.append(self._welcome)
         registry.deleted_listeners.append(self._twins_deleted)
+        self.bus = shared_bus
+        self.node = secrets.token_hex(8)  # tells this node's own messages from the others'
+        if shared_bus is not None:
+            shared_bus.subscribe("properties.*", self._heard)
 
     async def close(self) -> None:
         """Wait for the acks and deletions under way (before the store closes)."""
@@ -58,7 +78,7 @@ class PropertyService:
         props = await self._state(target)
         changed = props.set_desired(checked, time.time_ns())
         if changed:
-            await self._save(props, changed)
+            await self._save(props, changed, desired=True)
             session = self.hub.session(target.id)
             if session is not None:
                 session.send({"type": "desired", "properties": props.delta(),
@@ -147,12 +167,50 @@ class PropertyService:
                 self._cache[device.id] = props
         return props
 
-    async def _save(self, props: DeviceProperties, names: list[str]) -> None:
+    async def _save(self, props: DeviceProperties, names: list[str], desired: bool = False) -> None:
         try:
             await self.store.save_properties(props, names)
         except BaseException:
             self._cache.pop(props.device_id, None)  # memory ran ahead of the disk: reload
             raise
+        if self.bus is not None and names:  # after the commit: what they read again is new
+            self._spawn(self._tell(props, desired))
+
+    # -- other nodes (a shared bus) --------------------------------------------------------
+
+    async def _tell(self, props: DeviceProperties, desired: bool) -> None:
+        message = {"node": self.node, "device": props.device_id, "desired": desired}
+        assert self.bus is not None  # only called with a shared bus
+        try:
+            await self.bus.publish(f"properties.{props.twin_id}", message)
+        except Exception as err:
+            log.warning(
+                "the other nodes were not told of a property change: they answer from their "
+                "cache of the device's properties until their next change of it",
+                extra={"event": "property_sync_failed", "error": str(err)},
+            )
+
+    def _heard(self, subject: str, message: object) -> None:
+        if not isinstance(message, dict) or message.get("node") == self.node:
+            return
+        device_id = message.get("device")
+        if not isinstance(device_id, int):
+            return
+        self._cache.pop(device_id, None)  # read again from the store at its next use
+        session = self.hub.session(device_id)
+        if session is not None and message.get("desired"):
+            self._spawn(self._send_desired(session))
+
+    async def _send_desired(self, session: DeviceSession) -> None:
+        """The delta to a device on this node whose desired values changed on another."""
+        props = await self._state(session.device)
+        session.send({"type": "desired", "properties": props.delta(),
+                      "version": props.version})  # fmt: skip
+
+    def _spawn(self, work: Any) -> None:
+        task: asyncio.Task[None] = asyncio.get_running_loop().create_task(work)
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
 
     def _twins_deleted(self, twin_ids: list[int]) -> None:
         doomed = set(twin_ids)
