@@ -56,6 +56,24 @@ async def test_an_old_database_is_upgraded_and_keeps_its_commands(postgres_dsn: 
     )  # fmt: skip
 
 
+async def test_a_lower_number_shipped_after_a_higher_one_is_applied(postgres_dsn: str) -> None:
+    # numbers are given out in ranges, so a database may have 10 and not yet 2
+    later = next(v for v in VERSIONS if v >= 10)
+    sql = {version: text for version, _, text in migrations()}
+    conn = await asyncpg.connect(postgres_dsn)
+    try:
+        assert await migrate(conn, target=1) == [1]
+        async with conn.transaction():
+            await conn.execute(sql[later])
+            await conn.execute("INSERT INTO twinlink_schema (version) VALUES ($1)", later)
+        applied = await migrate(conn)
+        stored = {r[0] for r in await conn.fetch("SELECT version FROM twinlink_schema")}
+    finally:
+        await conn.close()
+    assert applied == [v for v in VERSIONS if v not in (1, later)]
+    assert stored == set(VERSIONS)
+
+
 async def test_nodes_starting_together_migrate_once(postgres_dsn: str) -> None:
     conns = [await asyncpg.connect(postgres_dsn) for _ in range(3)]
     try:

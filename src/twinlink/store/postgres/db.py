@@ -71,6 +71,16 @@ async def schema_version(conn: Connection) -> int:
     return int(await conn.fetchval("SELECT coalesce(max(version), 0) FROM twinlink_schema"))
 
 
+async def applied_versions(conn: Connection) -> set[int]:
+    """Every migration the database has had. A migration is applied when it is missing from
+    this set, not when its number is above the highest: numbers are given out in ranges
+    (history's below 10, metadata's from 10), so a lower one may ship after a higher one."""
+    exists = await conn.fetchval("SELECT to_regclass('twinlink_schema') IS NOT NULL")
+    if not exists:
+        return set()
+    return {int(row[0]) for row in await conn.fetch("SELECT version FROM twinlink_schema")}
+
+
 async def migrate(conn: Connection, target: int | None = None) -> list[int]:
     """Apply pending migrations in order, each in its own transaction; those applied."""
     applied = []
@@ -81,7 +91,7 @@ async def migrate(conn: Connection, target: int | None = None) -> list[int]:
             # Taken again per migration and held to its commit: a second node waits here,
             # then sees the version the first one wrote and skips the file.
             await conn.execute("SELECT pg_advisory_xact_lock($1)", _MIGRATION_LOCK)
-            if version <= await schema_version(conn):
+            if version in await applied_versions(conn):
                 continue
             await conn.execute(sql)
             await conn.execute(
