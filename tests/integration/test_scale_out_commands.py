@@ -206,6 +206,35 @@ async def test_a_sender_waiting_on_a_gets_the_result_of_a_queued_command_run_on_
     assert status == 200 and cmd["state"] == "succeeded"
 
 
+async def test_a_device_polling_b_over_http_gets_a_command_from_a_and_a_gets_its_result(
+    nodes: Nodes,
+) -> None:
+    slug, tokens = make_twin(nodes.a)
+    headers = {"Authorization": f"Bearer {tokens['rig']}"}
+    async with (
+        admin_client(nodes.a) as a,
+        httpx.AsyncClient(base_url=nodes.b.url, headers=headers, timeout=30) as device,
+    ):
+        # Queued, so it waits on A for the poll on B whichever comes first.
+        sending = asyncio.create_task(send(a, slug, "pause", queue=True, timeout_s=30))
+        polled = await device.get("/api/v1/device/commands", params={"wait": 20})
+        assert polled.status_code == 200, polled.text
+        [command] = polled.json()["commands"]
+        assert command["name"] == "pause"
+        r = await device.post(
+            f"/api/v1/device/commands/{command['id']}/result",
+            json={"status": "succeeded", "result": "paused"},
+        )
+        assert r.status_code == 200 and r.json()["state"] == "succeeded", r.text
+        status, cmd = await sending
+        assert (status, cmd["id"], cmd["state"], cmd["result"]) == (
+            200, command["id"], "succeeded", "paused",
+        )  # fmt: skip
+        assert cmd["delivered"] is not None
+        again = await device.get("/api/v1/device/commands")  # delivered once
+        assert again.json()["commands"] == []
+
+
 # -- desired and reported properties -----------------------------------------------------------
 
 

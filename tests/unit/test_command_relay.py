@@ -155,3 +155,18 @@ async def test_without_a_shared_bus_there_is_no_relay(stores: Stores) -> None:
     world = await setting(stores)
     service = CommandService(world.registry, stores.commands, world.hub, 30.0)
     assert service.relay is None
+
+
+async def test_a_device_polling_b_takes_a_command_sent_on_a(cluster: Callable[[], Any]) -> None:
+    a, b = await cluster(), await cluster()
+    polling = asyncio.create_task(b.commands.poll(b.world.device, 10.0))
+    await until(lambda: b.commands._polls, "the poll waiting on B")
+    sending = asyncio.create_task(a.commands.send(a.world.owner, SLUG, "pause", {"n": 2}))
+    [polled] = await polling
+    assert (polled.name, polled.args, polled.state) == ("pause", {"n": 2}, "delivered")
+    await until(lambda: a.commands._live[polled.id].record.state == "delivered", "delivered")
+    done = await b.commands.record_result(b.world.device, polled.id, "failed", None, "jammed")
+    assert done.state == "failed"
+    record = await sending
+    assert (record.id, record.state, record.error) == (polled.id, "failed", "jammed")
+    assert await b.commands.poll(b.world.device, 0) == []  # delivered once

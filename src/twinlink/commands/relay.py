@@ -14,6 +14,11 @@ When a device connects, its node publishes "connected": every node holding queue
 for it pushes them there. The node holding the session sends each command id once per
 session, however many nodes push it, so with N nodes a command is delivered once.
 
+A device that polls over HTTP instead: the node where its poll waits takes the pushed
+command for it (a poll says "connected" too, so queued commands come), delivers it with the
+poll's answer and tells the sender, and the result the device posts there goes to the sender
+as a WebSocket's does.
+
 The embedded default (the memory bus, one node) has no relay: nothing of this runs there.
 """
 
@@ -24,6 +29,7 @@ import logging
 import secrets
 import time
 from collections.abc import Callable
+from dataclasses import asdict
 from typing import Any
 
 from twinlink.bus import Bus
@@ -44,15 +50,24 @@ _PRUNE_AT = 10_000  # sent ids kept before the expired ones are dropped
 RemoteEvent = Callable[[dict[str, Any]], None]
 # The queued, pending commands a node tracks for a device (id, created_ns).
 QueuedFor = Callable[[int, int], list[CommandRecord]]
+# Wakes a device's HTTP polls waiting on this node; False when none waits.
+WakePolls = Callable[[int], bool]
 
 
 class CommandRelay:
     def __init__(
-        self, bus: Bus, hub: DeviceHub, on_event: RemoteEvent, queued_for: QueuedFor
+        self,
+        bus: Bus,
+        hub: DeviceHub,
+        on_event: RemoteEvent,
+        queued_for: QueuedFor,
+        wake_polls: WakePolls,
     ) -> None:
         self.bus, self.hub = bus, hub
         self.node = secrets.token_hex(8)
-        self._on_event, self._queued_for = on_event, queued_for
+        self._on_event, self._queued_for, self._wake_polls = on_event, queued_for, wake_polls
+        # Other nodes' commands taken by a device's HTTP poll here, until its result.
+        self._polled: dict[str, CommandRecord] = {}
         self._taken: dict[str, asyncio.Future[None]] = {}
         # Ids this node sent to one of its sessions: (device id, session, expires_ns).
         self._sent: dict[str, tuple[int, DeviceSession, int]] = {}
@@ -102,7 +117,7 @@ class CommandRelay:
         return {
             "kind": "push", "node": self.node, "id": record.id, "device": record.device_id,
             "created_ns": record.created_ns, "expires_ns": record.expires_ns,
-            "message": record.message(),
+            "message": record.message(), "record": asdict(record),
         }  # fmt: skip
 
     # -- the device's node --------------------------------------------------------------------
@@ -117,7 +132,7 @@ class CommandRelay:
         return found is not None and found[0] == device.id
 
     def connected(self, device: Device) -> None:
-        """`device` connected here: the other nodes push its queued commands."""
+        """`device` connected (or polls) here: the other nodes push its queued commands."""
         message = {"kind": "connected", "node": self.node, "device": device.id,
                    "created_ns": device.created_ns}  # fmt: skip
         self._publish(f"commands.{device.twin_id}", message)
@@ -128,6 +143,51 @@ class CommandRelay:
         if message.get("type") == "result":
             self._sent.pop(str(message.get("id")), None)
         self._publish(f"command-results.{device.twin_id}", event)
+
+    # -- a device polling this node over HTTP -------------------------------------------------
+
+    def pending_polled(self, device_id: int) -> list[CommandRecord]:
+        """Other nodes' commands waiting for the device's next poll here."""
+        polled = self._polled.values()
+        return [r for r in polled if r.device_id == device_id and r.state == "pending"]
+
+    def delivered_polled(self, device: Device, record: CommandRecord) -> bool:
+        """A poll delivered `record`: True when it is another node's, which is told."""
+        if self._polled.get(record.id) is not record:
+            return False
+        self.announce(device, {"type": "delivered", "id": record.id})
+        return True
+
+    def finish_polled(self, device: Device, result: dict[str, Any]) -> CommandRecord | None:
+        """The device's result (a `result` message) for another node's command it polled
+        here, told to that node; None when it is not one."""
+        record = self._polled.get(str(result.get("id")))
+        if record is None or record.device_id != device.id:
+            return None
+        del self._polled[record.id]
+        record.finish(result["status"], result.get("result"), result.get("error"), time.time_ns())
+        self.announce(device, result)
+        return record
+
+    def _take_polled(self, fields: dict[str, Any]) -> bool:
+        """Another node's command (its record's fields) for a device that polls here: True
+        when a poll is waiting, which is woken to take it."""
+        device_id, command_id = fields.get("device_id"), fields.get("id")
+        if not isinstance(device_id, int) or not isinstance(command_id, str):
+            return False
+        if command_id not in self._polled:
+            try:
+                record = CommandRecord(**fields)
+            except TypeError:  # not a record of a twinlink node
+                return False
+            if not self._wake_polls(device_id):
+                return False
+            if len(self._polled) >= _PRUNE_AT:  # the unanswered ones, once expired
+                now = time.time_ns()
+                self._polled = {k: r for k, r in self._polled.items() if r.expires_ns > now}
+            self._polled[command_id] = record
+            return True
+        return self._wake_polls(device_id)
 
     # -- what the bus brings ------------------------------------------------------------------
 
@@ -145,8 +205,14 @@ class CommandRelay:
     def _heard_push(self, subject: str, message: dict[str, Any]) -> None:
         device_id, command_id = message.get("device"), message.get("id")
         session = self.hub.session(device_id) if isinstance(device_id, int) else None
-        if session is None or not isinstance(command_id, str):
-            return  # not this node's device
+        if not isinstance(command_id, str):
+            return
+        twin = subject.split(".", 1)[1]
+        if session is None:  # a poll here may take it; else not this node's device
+            fields = message.get("record")
+            if isinstance(fields, dict) and self._take_polled(fields):
+                self._publish(f"command-results.{twin}", {"type": "taken", "id": command_id})
+            return
         # created_ns: not a command for a deleted device whose id was given to this one
         if int(message.get("created_ns") or 0) < session.device.created_ns:
             return
@@ -155,7 +221,6 @@ class CommandRelay:
             if not session.send(message.get("message") or {}):
                 return
             self._remember(command_id, session, int(message.get("expires_ns") or 0))
-        twin = subject.split(".", 1)[1]
         self._publish(f"command-results.{twin}", {"type": "taken", "id": command_id})
 
     def _heard_result(self, subject: str, message: object) -> None:

@@ -75,7 +75,9 @@ class CommandService:
         registry.deleted_listeners.append(self._twins_deleted)
         self.relay: CommandRelay | None = None
         if shared_bus is not None:
-            self.relay = CommandRelay(shared_bus, hub, self._remote_event, self._queued_for)
+            self.relay = CommandRelay(
+                shared_bus, hub, self._remote_event, self._queued_for, self._wake_polls
+            )
 
     async def open(self) -> None:
         """Take up the commands a previous run left open (the store is open)."""
@@ -198,6 +200,11 @@ class CommandService:
         if isinstance(error, str) and len(error) > MAX_ERROR_CHARS:
             error = error[: MAX_ERROR_CHARS - 3] + "..."
         now = time.time_ns()
+        if self.relay is not None:  # polled here for another node, which records it
+            message = _result_message(command_id, status, result, error)
+            relayed = self.relay.finish_polled(device, message)
+            if relayed is not None:
+                return relayed
         live = self._live.get(command_id)
         if live is not None and live.record.device_id == device.id:
             self._settle(live, live.record.finish(status, result, error, now))
@@ -214,6 +221,8 @@ class CommandService:
     async def poll(self, device: Device, wait_s: float) -> list[CommandRecord]:
         """The device's pending commands, waiting up to `wait_s` for one; they are delivered
         by this answer (the HTTP long poll)."""
+        if self.relay is not None:  # the queued commands other nodes hold for it
+            self.relay.connected(device)
         found = self._pending(device.id)
         if not found and wait_s > 0:
             waiter: asyncio.Future[None] = asyncio.get_running_loop().create_future()
@@ -227,13 +236,18 @@ class CommandService:
             found = self._pending(device.id)
         now = time.time_ns()
         for record in found:
-            if record.deliver(now):
+            if not record.deliver(now):
+                continue
+            if self.relay is None or not self.relay.delivered_polled(device, record):
                 self.log.save(record)
         return found
 
     def _pending(self, device_id: int) -> list[CommandRecord]:
         lives = self._by_device.get(device_id, {}).values()
-        return [live.record for live in lives if live.record.state == "pending"]
+        found = [live.record for live in lives if live.record.state == "pending"]
+        if self.relay is not None:
+            found += self.relay.pending_polled(device_id)
+        return found
 
     async def _on_delivered(
         self, session: DeviceSession, message: dict[str, Any]
@@ -334,7 +348,11 @@ class CommandService:
         session = self.hub.session(record.device_id)
         if session is not None and session.send(record.message()):
             return True
-        waiters = self._polls.get(record.device_id)
+        return self._wake_polls(record.device_id)
+
+    def _wake_polls(self, device_id: int) -> bool:
+        """Wake the device's waiting HTTP polls; False when none waits."""
+        waiters = self._polls.get(device_id)
         if not waiters:
             return False
         for waiter in waiters:
