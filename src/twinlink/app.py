@@ -160,12 +160,15 @@ def build_services(settings: Settings) -> Services:
             settings.data_dir,
             settings.blueprints_dir,
             settings.max_processors,
+            stores.claims("processor"),
         ),
         fmus=FmuService(
             store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders
         ),
         gateway=gateway,
-        connectors=ConnectorService(store, registry, devices, hub, ingest, vault),
+        connectors=ConnectorService(
+            store, registry, devices, hub, ingest, vault, stores.claims("connector")
+        ),
         mqtt=MqttService(settings, devices, hub, ingest),
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
     )

@@ -6,7 +6,7 @@ Nothing else chooses an implementation; the rest sees the protocols of store/ an
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
 from twinlink.bus import Bus, MemoryBus
@@ -14,6 +14,7 @@ from twinlink.config import Settings, kafka_bootstrap
 from twinlink.store.base import MetadataStore
 from twinlink.store.commands import CommandStore, PropertyStore
 from twinlink.store.history import HistoryStore
+from twinlink.store.leases import Claims, LeaseStore, new_holder
 from twinlink.store.sqlite import SqliteStore
 from twinlink.store.sqlite.commands import SqliteCommands
 from twinlink.store.sqlite.faults import StorageFaults
@@ -43,6 +44,14 @@ class Storage:
     figures: Callable[[], dict[str, int]]
     # Opened before the stores and closed after them; None when each opens its own files.
     shared: Shared | None = None
+    # Which node runs each processor and connector; None when one node has the store alone
+    # (SQLite), which runs them all, as it always did.
+    leases: LeaseStore | None = None
+    holder: str = field(default_factory=new_holder)  # this node's run, in the leases it holds
+
+    def claims(self, kind: str) -> Claims | None:
+        """The leases of one kind of item this node holds; None on the embedded store."""
+        return Claims(self.leases, kind, self.holder) if self.leases is not None else None
 
 
 def pick_storage(settings: Settings) -> Storage:
@@ -92,6 +101,7 @@ def postgres_storage(settings: Settings) -> Storage:
     from twinlink.store.postgres.db import PostgresDatabase
     from twinlink.store.postgres.history import PostgresHistory
     from twinlink.store.postgres.history import ReadLimits as PostgresReadLimits
+    from twinlink.store.postgres.leases import PostgresLeases
     from twinlink.store.postgres.metadata import PostgresMetadataStore
     from twinlink.store.postgres.properties import PostgresProperties
 
@@ -118,6 +128,7 @@ def postgres_storage(settings: Settings) -> Storage:
         properties=PostgresProperties(db),
         figures=figures,
         shared=db,
+        leases=PostgresLeases(db),
     )
 
 

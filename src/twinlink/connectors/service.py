@@ -31,7 +31,13 @@ from twinlink.connectors.kinds import (
     shown_config,
     split_config,
 )
-from twinlink.domain.errors import ConflictError, ForbiddenError, InvalidInputError, NotFoundError
+from twinlink.domain.errors import (
+    ConflictError,
+    ForbiddenError,
+    InvalidInputError,
+    NotFoundError,
+    StorageError,
+)
 from twinlink.domain.records import ConnectorRecord, Device
 from twinlink.ingest.link import DeviceLink
 from twinlink.ingest.service import IngestService
@@ -40,6 +46,7 @@ from twinlink.plugins import PluginUnavailable
 from twinlink.registry.devices import DeviceService
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
+from twinlink.store.leases import Claims
 
 log = logging.getLogger("twinlink.connectors")
 
@@ -76,6 +83,7 @@ class ConnectorService:
         hub: DeviceHub,
         ingest: IngestService,
         vault: Vault,
+        claims: Claims | None = None,
     ) -> None:
         self.store = store
         self.registry = registry
@@ -87,20 +95,38 @@ class ConnectorService:
         # Why a connector that should run does not (it failed to start), by id.
         self.failed: dict[int, ConnectorStatus] = {}
         self._background: set[asyncio.Task[Any]] = set()
+        # On a store shared by several nodes: the leases of the connectors this node runs
+        # (None: the only node, which runs every enabled connector), and the version
+        # (modified_ns) of each it started or tried to, to follow changes made elsewhere.
+        self.claims = claims
+        self._keeper: asyncio.Task[None] | None = None
+        self._versions: dict[int, int] = {}
         registry.deleted_listeners.append(self._twins_deleted)
         devices.deleted_listeners.append(self._device_deleted)
 
     # -- lifecycle ------------------------------------------------------------------------
 
     async def open(self) -> None:
+        if self.claims is not None:  # one of several nodes: it runs those whose leases it takes
+            await self._rebalance()
+            self._keeper = asyncio.create_task(self._keep_leases())
+            return
         for record in await self.store.list_connectors():
             if record.enabled:
                 await self._start_quietly(record)
 
     async def close(self) -> None:
+        if self._keeper is not None:
+            self._keeper.cancel()
+            await asyncio.gather(self._keeper, return_exceptions=True)
         await asyncio.gather(*(self._stop(cid) for cid in list(self.running)))
         if self._background:
             await asyncio.gather(*self._background, return_exceptions=True)
+        if self.claims is not None:  # stopped: the other nodes may take them over at once
+            try:
+                await self.claims.release_all()
+            except StorageError as err:
+                log.warning("connector leases not released (they expire): %s", err)
 
     # -- people ---------------------------------------------------------------------------
 
@@ -137,7 +163,7 @@ class ConnectorService:
             twin.id, device.id, name, kind, public, self._seal(secret), enabled,
             principal.user.id if principal.user else None, time.time_ns(),
         )  # fmt: skip
-        if enabled:
+        if enabled and await self._may_run(record.id):
             try:
                 await self._start(record)
             except InvalidInputError:  # nothing is kept: the person fixes it and tries again
@@ -172,14 +198,18 @@ class ConnectorService:
         await self._stop(record.id)
         record.settings, record.secret, record.enabled = public, self._seal(secret), enabled
         try:
-            if enabled:
+            if enabled and await self._may_run(record.id):
                 await self._start(record)
         except InvalidInputError:  # back to what it was, running again if it ran
             record.settings, record.secret, record.enabled = before
             if record.enabled:
                 await self._start_quietly(record)
             raise
-        await self.store.update_connector(record.id, public, record.secret, enabled, time.time_ns())
+        now = time.time_ns()
+        await self.store.update_connector(record.id, public, record.secret, enabled, now)
+        record.modified_ns = now
+        if record.id in self._versions:  # as stored: no change made elsewhere to follow
+            self._versions[record.id] = now
         return self.view(record)
 
     async def restart(self, principal: Principal, slug: str, name: str) -> dict[str, Any]:
@@ -187,6 +217,11 @@ class ConnectorService:
         record = await self._find(principal, slug, name)
         if not record.enabled:
             raise ConflictError(f"connector {name!r} is disabled; enable it instead")
+        if not await self._may_run(record.id):  # it runs on another node: it restarts there
+            await self.store.update_connector(
+                record.id, record.settings, record.secret, True, time.time_ns()
+            )
+            return self.view(record)
         await self._stop(record.id)
         await self._start(record)
         return self.view(record)
@@ -221,6 +256,7 @@ class ConnectorService:
     async def _start(self, record: ConnectorRecord) -> None:
         """Start `record`'s connector; a failure is kept as its status and raised."""
         self.failed.pop(record.id, None)
+        self._versions[record.id] = record.modified_ns
         try:
             config = checked_config(record.kind, {**record.settings, **self._unseal(record)})
             device = await self.store.get_device(record.twin_id, record.device)
@@ -257,9 +293,42 @@ class ConnectorService:
 
     async def _stop(self, connector_id: int) -> None:
         self.failed.pop(connector_id, None)
+        self._versions.pop(connector_id, None)
         connector = self.running.pop(connector_id, None)
         if connector is not None:
             await connector.stop()
+
+    # -- which node runs what (a shared store) --------------------------------------------
+
+    async def _may_run(self, connector_id: int) -> bool:
+        """Whether this node may run the connector: always when it is the only node; on a
+        shared store, when it holds (or now takes) its lease."""
+        return self.claims is None or await self.claims.claim(connector_id)
+
+    async def _keep_leases(self) -> None:
+        assert self.claims is not None
+        while True:
+            await asyncio.sleep(self.claims.renew_s)
+            try:
+                await self._rebalance()
+            except Exception:  # the next round tries again; the loop must not end
+                log.exception("connector leases: a round failed")
+
+    async def _rebalance(self) -> None:
+        """Renew the leases of the connectors this node runs and take free ones; stop what it
+        no longer holds or what is disabled or deleted, start what it now holds, restart what
+        another node changed. One that failed to start is tried again only once changed."""
+        assert self.claims is not None
+        enabled = {r.id: r for r in await self.store.list_connectors() if r.enabled}
+        held = await self.claims.hold(enabled)
+        for cid in [cid for cid in self._versions if cid not in held]:
+            await self._stop(cid)
+        for cid in sorted(held):
+            record = enabled[cid]
+            if self._versions.get(cid) == record.modified_ns:
+                continue  # running (or failed) as it is stored
+            await self._stop(cid)
+            await self._start_quietly(record)
 
     def _twins_deleted(self, twin_ids: list[int]) -> None:
         doomed = [cid for cid, c in self.running.items() if c.host.device.twin_id in twin_ids]

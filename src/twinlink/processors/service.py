@@ -23,6 +23,7 @@ from twinlink.domain.errors import (
     ForbiddenError,
     InvalidInputError,
     NotFoundError,
+    StorageError,
 )
 from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
 from twinlink.domain.samples import SampleBatch
@@ -35,6 +36,7 @@ from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
+from twinlink.store.leases import Claims
 
 log = logging.getLogger("twinlink.processors")
 NOTABLE = {"crashed", "failed", "memory_limit", "hung"}
@@ -67,6 +69,7 @@ class ProcessorService:
         data_dir: Path,
         blueprints_dir: Path | None,
         max_running: int = 64,
+        claims: Claims | None = None,
     ) -> None:
         self.store = store
         self.registry = registry
@@ -79,29 +82,36 @@ class ProcessorService:
         self.catalog: dict[str, Entry] = {}
         self.hosted: dict[int, Hosted] = {}
         self._background: set[asyncio.Task[Any]] = set()
+        # On a store shared by several nodes: the leases of the processors this node runs
+        # (None: the only node, which runs every enabled processor).
+        self.claims = claims
+        self._keeper: asyncio.Task[None] | None = None
         registry.deleted_listeners.append(self._twins_deleted)
 
     # -- lifecycle --------------------------------------------------------------------------
 
     async def open(self) -> None:
         self.catalog = await asyncio.to_thread(discover, self.blueprints_dir)
-        for record in await self.store.list_processors():
-            if not record.enabled:
-                continue
-            if len(self.hosted) >= self.max_running:
-                log.warning(
-                    "processor %s/%s not started: over max_processors (%d)",
-                    record.twin_slug, record.name, self.max_running,
-                )  # fmt: skip
-                continue
-            self._host(record)
+        if self.claims is None:  # the only node: it runs every enabled processor
+            self._host_all(await self.store.list_processors())
+        else:  # one of several: it runs those whose leases it takes, now and every round
+            await self._rebalance()
+            self._keeper = asyncio.create_task(self._keep_leases())
         # Import the installed blueprints now, off the event loop, not at the first request.
         self._spawn(asyncio.to_thread(lambda: [e.cls for e in self.catalog.values()]))
 
     async def close(self) -> None:
+        if self._keeper is not None:
+            self._keeper.cancel()
+            await asyncio.gather(self._keeper, return_exceptions=True)
         await asyncio.gather(*(self._unhost(pid) for pid in list(self.hosted)))
         if self._background:
             await asyncio.gather(*self._background, return_exceptions=True)
+        if self.claims is not None:  # stopped: the other nodes may take them over at once
+            try:
+                await self.claims.release_all()
+            except StorageError as err:
+                log.warning("processor leases not released (they expire): %s", err)
 
     def blueprints(self) -> list[dict[str, Any]]:
         return [entry.view() for entry in self.catalog.values()]
@@ -134,7 +144,7 @@ class ProcessorService:
         record = await self.store.create_processor(
             twin.id, spec.name, spec.blueprint, spec.stored(), spec.enabled, user_id, time.time_ns()
         )
-        if record.enabled:
+        if record.enabled and await self._may_run(record.id):
             self._host(record)
         return self.view(record)
 
@@ -153,8 +163,10 @@ class ProcessorService:
         check_chain(spec, others)
         if spec.enabled and record.id not in self.hosted:
             self._check_room()
-        await self.store.update_processor(record.id, spec.stored(), spec.enabled, time.time_ns())
+        now = time.time_ns()
+        await self.store.update_processor(record.id, spec.stored(), spec.enabled, now)
         record.spec, record.enabled, record.blueprint = spec.stored(), spec.enabled, spec.blueprint
+        record.modified_ns = now  # as stored: other rounds see no change made elsewhere
         kept = await self._apply(record, current, spec)
         return {**self.view(record), "kept_state": kept}
 
@@ -207,6 +219,52 @@ class ProcessorService:
             "modified_ns": record.modified_ns,
         }
 
+    # -- which node runs what (a shared store) --------------------------------------------
+
+    def _host_all(self, records: list[ProcessorRecord]) -> None:
+        for record in records:
+            if not record.enabled:
+                continue
+            if len(self.hosted) >= self.max_running:
+                log.warning(
+                    "processor %s/%s not started: over max_processors (%d)",
+                    record.twin_slug, record.name, self.max_running,
+                )  # fmt: skip
+                continue
+            self._host(record)
+
+    async def _may_run(self, processor_id: int) -> bool:
+        """Whether this node may run the processor: always when it is the only node; on a
+        shared store, when it holds (or now takes) its lease."""
+        return self.claims is None or await self.claims.claim(processor_id)
+
+    async def _keep_leases(self) -> None:
+        assert self.claims is not None
+        while True:
+            await asyncio.sleep(self.claims.renew_s)
+            try:
+                await self._rebalance()
+            except Exception:  # the next round tries again; the loop must not end
+                log.exception("processor leases: a round failed")
+
+    async def _rebalance(self) -> None:
+        """Renew the leases of the processors this node runs and take free ones (up to
+        max_processors); stop what it no longer holds or what is disabled or deleted, start
+        what it now holds, apply what another node changed."""
+        assert self.claims is not None
+        enabled = {r.id: r for r in await self.store.list_processors() if r.enabled}
+        keep = [pid for pid in enabled if pid in self.hosted]
+        more = [pid for pid in sorted(enabled) if pid not in self.hosted]
+        held = await self.claims.hold(keep + more[: max(0, self.max_running - len(keep))])
+        for pid in [pid for pid in self.hosted if pid not in held]:
+            await self._unhost(pid)
+        for pid in sorted(held):
+            record, hosted = enabled[pid], self.hosted.get(pid)
+            if hosted is None:
+                self._host(record)
+            elif hosted.record.modified_ns != record.modified_ns:  # changed on another node
+                await self._apply(record, spec_of(hosted.record), spec_of(record))
+
     # -- hosting ----------------------------------------------------------------------------
 
     def _host(self, record: ProcessorRecord) -> None:
@@ -244,7 +302,7 @@ class ProcessorService:
         hosted = self.hosted.get(record.id)
         if hosted is None or not new.enabled or new.source != old.source:
             await self._unhost(record.id)
-            if new.enabled:
+            if new.enabled and await self._may_run(record.id):
                 self._host(record)
             return False
         hosted.record = record
