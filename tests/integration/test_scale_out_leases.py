@@ -222,3 +222,55 @@ def test_a_connector_runs_on_one_node_moves_when_it_dies_and_stops_when_disabled
         for node in (a, b):
             if node is not None:
                 stop_server(node)
+
+
+def test_a_processor_follows_what_is_done_through_the_node_that_does_not_run_it(
+    shared: Cluster, tmp_path: Path
+) -> None:
+    a = start_node(shared, tmp_path / "node-a")
+    b: Server | None = None
+    try:
+        b = start_node(shared, tmp_path / "node-b", a.admin_token)
+        slug, [device] = device_twin(a)
+        with a.admin as admin:  # made through A, which takes its lease and runs it
+            r = admin.post(f"/api/v1/twins/{slug}/processors", json={
+                "name": "scale", "blueprint": "expression", "output": "scaled",
+                "params": {"outputs": {"y": "x * 2"}}})  # fmt: skip
+        assert r.status_code == 201, r.text
+        path = f"/api/v1/twins/{slug}/processors/scale"
+        assert runner((a, b), path, lambda v: v["state"] == "running") is a
+
+        with b.admin as admin:  # changed through B: A applies it
+            r = admin.patch(path, json={"params": {"outputs": {"y": "x * 3"}}})
+        assert r.status_code == 200, r.text
+        poll_until(
+            lambda: view(a, path)["params"] == {"outputs": {"y": "x * 3"}},
+            "the change applied on A",
+            TAKEOVER_S,
+        )
+        assert view(b, path)["state"] == "stopped"
+        with watching(b, slug, "scaled") as ws:
+            send(b, device, 1)
+            got = samples_until(ws, lambda s: times_of(1) <= {x["time"] for x in s})
+        assert sorted(x["values"]["y"] for x in got) == sorted(3 * v["x"] for v in rows(1))
+
+        with b.admin as admin:  # disabled through B: it stops on A, its lease given back
+            assert admin.post(f"{path}/stop").status_code == 200
+        poll_until(lambda: view(a, path)["state"] == "stopped", "stopped on A", TAKEOVER_S)
+        poll_until(
+            lambda: shared.fetchval("SELECT count(*) FROM leases") == 0, "lease released", 30
+        )
+
+        with b.admin as admin:  # enabled through B: B takes the free lease
+            assert admin.post(f"{path}/start").status_code == 200
+        assert runner((a, b), path, lambda v: v["state"] == "running") is b
+        stop_server(b)  # a clean stop: its lease given back, A takes the processor over
+        assert runner((a,), path, lambda v: v["state"] == "running") is a
+        with watching(a, slug, "scaled") as ws:
+            send(a, device, 2)
+            got = samples_until(ws, lambda s: times_of(2) <= {x["time"] for x in s})
+        assert sorted(x["time"] for x in got) == sorted(times_of(2))
+    finally:
+        for node in (a, b):
+            if node is not None:
+                stop_server(node)
