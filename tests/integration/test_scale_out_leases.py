@@ -25,7 +25,7 @@ from tests.integration._postgres import postgres_dsn as postgres_dsn
 from tests.integration._processors import BLUEPRINTS, T0, samples_until, watching
 from tests.integration._processors import post as post_rows
 from tests.integration._scale_out import Cluster, cluster
-from tests.integration._util import apply, poll_until, twin_doc, unique
+from tests.integration._util import apply, assert_problem, poll_until, twin_doc, unique
 from tests.unit.test_leases import check_semantics
 from twinlink.store.leases import RENEW_S, TTL_S, new_holder
 from twinlink.store.postgres.db import PostgresDatabase
@@ -254,6 +254,8 @@ def test_a_processor_follows_what_is_done_through_the_node_that_does_not_run_it(
             got = samples_until(ws, lambda s: times_of(1) <= {x["time"] for x in s})
         assert sorted(x["values"]["y"] for x in got) == sorted(3 * v["x"] for v in rows(1))
 
+        with b.admin as admin:  # only the node running it can restart it
+            assert_problem(admin.post(f"{path}/restart"), 409)
         with b.admin as admin:  # disabled through B: it stops on A, its lease given back
             assert admin.post(f"{path}/stop").status_code == 200
         poll_until(lambda: view(a, path)["state"] == "stopped", "stopped on A", TAKEOVER_S)

@@ -178,6 +178,12 @@ class ProcessorService:
     async def restart(self, principal: Principal, slug: str, name: str) -> dict[str, Any]:
         record = await self._find(principal, slug, name, "editor")
         hosted = self.hosted.get(record.id)
+        if hosted is None and record.enabled and self.claims is not None:
+            raise ConflictError(
+                f"processor {name!r} runs on another node of this cluster, which alone can "
+                "restart it: send the request to that node, or stop the processor, wait 5 s "
+                "(its node stops it) and start it"
+            )
         if hosted is None:
             raise ConflictError(f"processor {name!r} is stopped; start it instead")
         await hosted.supervisor.restart()
