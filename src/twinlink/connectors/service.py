@@ -319,7 +319,13 @@ class ConnectorService:
         no longer holds or what is disabled or deleted, start what it now holds, restart what
         another node changed. One that failed to start is tried again only once changed."""
         assert self.claims is not None
-        enabled = {r.id: r for r in await self.store.list_connectors() if r.enabled}
+        try:
+            enabled = {r.id: r for r in await self.store.list_connectors() if r.enabled}
+        except StorageError:  # renewed if it can be; stopped once their leases may have expired
+            held = await self.claims.hold(self._versions)
+            for cid in [cid for cid in self._versions if cid not in held]:
+                await self._stop(cid)
+            return
         held = await self.claims.hold(enabled)
         for cid in [cid for cid in self._versions if cid not in held]:
             await self._stop(cid)

@@ -258,7 +258,10 @@ class ProcessorService:
         max_processors); stop what it no longer holds or what is disabled or deleted, start
         what it now holds, apply what another node changed."""
         assert self.claims is not None
-        enabled = {r.id: r for r in await self.store.list_processors() if r.enabled}
+        try:
+            enabled = {r.id: r for r in await self.store.list_processors() if r.enabled}
+        except StorageError:  # renewed if it can be; stopped once their leases may have expired
+            enabled = {pid: hosted.record for pid, hosted in self.hosted.items()}
         keep = [pid for pid in enabled if pid in self.hosted]
         more = [pid for pid in sorted(enabled) if pid not in self.hosted]
         held = await self.claims.hold(keep + more[: max(0, self.max_running - len(keep))])
