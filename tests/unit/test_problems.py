@@ -20,6 +20,8 @@ from fastapi import FastAPI
 import twinlink
 from twinlink.api.problems import install
 from twinlink.auth.service import AuthError, LoginError
+from twinlink.bus.kafka.bus import KafkaBusError
+from twinlink.bus.kafka.codec import UnencodableMessageError
 from twinlink.commands.targets import DeviceChoiceError
 from twinlink.domain.errors import (
     ConflictError,
@@ -54,6 +56,7 @@ PROBLEM = "application/problem+json"
 # control flow inside one component, never shown to a person as an error of its own.
 PLAIN = {
     "twinlink.api.live._Gone",
+    "twinlink.bus.kafka.codec.UndecodableRecordError",
     "twinlink.domain.yamlsource._IntTooLong",
     "twinlink.domain.yamlsource._TooLarge",
     "twinlink.ingest.mqtt._wire.MalformedPacket",
@@ -189,6 +192,8 @@ CASES = [
     Case(QueryTimeoutError("over 10 s"), 503, "over 10 s"),
     Case(ReadCancelledError("the server is shutting down"), 503, "the server is shutting down"),
     Case(LiveMessageError("a message needs an op"), 422, "a message needs an op"),
+    Case(KafkaBusError("Kafka cannot be reached; retry"), 503, "Kafka cannot be reached; retry"),
+    Case(UnencodableMessageError("no form for a set"), 422, "no form for a set"),
     Case(
         GatewayProblem(405, "the service 'x' allows GET", headers=[(b"allow", b"GET")]),
         405,

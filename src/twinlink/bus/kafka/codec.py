@@ -31,6 +31,9 @@ class UnencodableMessageError(InvalidInputError):
 class UndecodableRecordError(ValueError):
     """A record on a bus topic that is not one this code wrote (or a later kind of one)."""
 
+    # Not a TwinlinkError: control flow of the bus's reader, which logs the record and skips
+    # it; no request is answered with it.
+
 
 def _numpy_scalar(obj: Any) -> Any:
     # numpy's float64 and int64 are not floats and ints to msgspec; .item() makes them so. Only
