@@ -28,6 +28,9 @@ TICK_S = 0.01  # the pacing loop wakes at most this often and makes every sample
 class Pace:
     rate_hz: float
     paused: bool = False
+    # When sending last resumed: the ticks the loop catches up on after a start may be older,
+    # from while it was paused, and are not sent.
+    resumed_ns: int = 0
 
 
 async def run_paced(
@@ -45,7 +48,7 @@ async def run_paced(
         period_ns = round(1e9 / pace.rate_hz)
         while next_ns <= now:
             values = step(period_ns / 1e9)
-            if not pace.paused:
+            if not pace.paused and next_ns >= pace.resumed_ns:
                 await device.send(values, time_ns=next_ns)
                 sent += 1
             next_ns += period_ns
@@ -99,7 +102,8 @@ def _tingen_handlers(device: AsyncDevice, model: TingenModel, pace: Pace) -> Non
 
     @device.on_command("start")
     async def start(args: dict[str, Any]) -> dict[str, Any]:
-        pace.paused = False
+        if pace.paused:
+            pace.paused, pace.resumed_ns = False, time.time_ns()
         await _report(device, model, pace)
         return {"paused": False}
 
