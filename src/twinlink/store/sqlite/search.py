@@ -9,15 +9,13 @@ up for the page of hits only.
 
 from __future__ import annotations
 
-import html
-import re
 import sqlite3
-import unicodedata
 from collections import Counter
 from typing import Any
 
 from twinlink.domain.merge import level_order
 from twinlink.domain.records import SearchResult, SearchRow, Visibility
+from twinlink.store.snippets import Highlighter
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.visibility import part_visible, visible_private_parts
 
@@ -30,8 +28,6 @@ SLOTS = 32  # privacy parts a twin may have in the search index
 _SHIFT = 5  # log2(SLOTS)
 
 # Snippets are built from escaped text, so a document can never inject markup into a result.
-_TOKEN = re.compile(r"\w+", re.UNICODE)
-_SNIPPET_TOKENS = 10
 
 
 def write_search_rows(c: sqlite3.Connection, twin_id: int, rows: list[SearchRow]) -> None:
@@ -325,77 +321,3 @@ class _Search:
         counts = Counter(k for keywords in per_twin.values() for k in keywords if k)
         ranked = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))[:limit]
         return [(spelling[k], n) for k, n in ranked]
-
-
-def _fold(text: str) -> str:
-    """Lower case without diacritics, as the unicode61 tokenizer compares words."""
-    decomposed = unicodedata.normalize("NFKD", text.lower())
-    return "".join(ch for ch in decomposed if not unicodedata.combining(ch))
-
-
-def _pattern(terms: list[str], prefix: bool) -> re.Pattern[str]:
-    words = "|".join(re.escape(_fold(t)) for t in terms)
-    tail = r"\w*" if prefix else r"\b"
-    return re.compile(rf"\b(?:{words}){tail}", re.IGNORECASE)
-
-
-class Highlighter:
-    """Finds the query's words in stored text the way match_expression does, and cuts a
-    snippet: about ten words around the first match, matches in <mark>, the rest escaped."""
-
-    def __init__(self, terms: list[str]) -> None:
-        long_terms = [t for t in terms if len(t) > 1]
-        short_terms = [t for t in terms if len(t) == 1]
-        # Where words match as prefixes, one pattern does: long words as prefixes, one-letter
-        # words whole. In the other text every word must match whole.
-        parts = []
-        if long_terms:
-            parts.append(rf"(?:{'|'.join(map(_escaped, long_terms))})\w*")
-        if short_terms:
-            parts.append(rf"(?:{'|'.join(map(_escaped, short_terms))})\b")
-        self.prefixed = re.compile(rf"\b(?:{'|'.join(parts)})", re.IGNORECASE)
-        self.whole = _pattern(terms, False)
-
-    def snippet(self, prefixed: list[str], whole: str) -> str | None:
-        """`prefixed` texts match a word as a prefix, `whole` only as the whole word. None
-        when nothing matches."""
-        for text in prefixed:
-            found = _spans(self.prefixed, text)
-            if found:
-                return _cut(text, found)
-        found = _spans(self.whole, whole)
-        return _cut(whole, found) if found else None
-
-
-def _escaped(term: str) -> str:
-    return re.escape(_fold(term))
-
-
-def _spans(pattern: re.Pattern[str], text: str) -> list[tuple[int, int]]:
-    if not text:
-        return []
-    # Diacritics: match a folded copy when positions carry over to the original.
-    haystack = text
-    if not text.isascii():
-        folded = _fold(text)
-        haystack = folded if len(folded) == len(text) else text
-    if pattern.search(haystack) is None:
-        return []
-    return [(m.start(), m.end()) for m in pattern.finditer(haystack)]
-
-
-def _cut(text: str, spans: list[tuple[int, int]]) -> str:
-    """The text around the first span, about ten words, spans marked, the rest escaped."""
-    words = list(_TOKEN.finditer(text))
-    first_word = next(i for i, w in enumerate(words) if w.end() > spans[0][0])
-    lo = max(0, first_word - 3)
-    hi = min(len(words), lo + _SNIPPET_TOKENS)
-    start, end = words[lo].start(), words[hi - 1].end()
-    out, pos = [], start
-    for a, b in spans:
-        if a < start or b > end:
-            continue
-        out += [html.escape(text[pos:a]), "<mark>", html.escape(text[a:b]), "</mark>"]
-        pos = b
-    out.append(html.escape(text[pos:end]))
-    return ("…" if start > 0 else "") + "".join(out) + ("…" if end < len(text) else "")

@@ -12,7 +12,7 @@ from __future__ import annotations
 from twinlink.domain.merge import level_order
 from twinlink.domain.records import SearchRow
 from twinlink.store.postgres.db import Connection
-from twinlink.store.postgres.metadata.snippets import words
+from twinlink.store.snippets import words
 
 # Keywords are kept apart by a line break, so the facets can be read back as whole keywords.
 KEYWORD_SEP = "\n"

@@ -21,9 +21,9 @@ from twinlink.store.postgres.metadata.index import (
     KEYWORD_SEP,
     term_query,
 )
-from twinlink.store.postgres.metadata.snippets import Highlighter
 from twinlink.store.postgres.metadata.sql import Args
 from twinlink.store.postgres.metadata.visibility import part_visible
+from twinlink.store.snippets import Highlighter
 
 FACET_SAMPLE = 100  # facets count the best this many hits
 RANK_LIMIT = 2000  # matching parts ranked in full; above, only name matches are

@@ -1,8 +1,7 @@
-"""Words as the search index sees them, and snippets of the text that matched.
-
-The same rules as the SQLite backend's FTS5 index and its snippets (store/sqlite/search.py),
-so that both backends find and show the same: a word is a run of letters and digits, compared
-in lower case without diacritics (unicode61 with remove_diacritics 2). Snippets are cut here
+"""Words as the search index sees them, and snippets of the text that matched, for every
+backend (SQLite's FTS5 index, PostgreSQL's tsvectors), so that both find and show the same: a
+word is a run of letters and digits, compared in lower case without diacritics (unicode61
+with remove_diacritics 2). Snippets are cut here
 from the stored text, escaped, with the matches in <mark>: PostgreSQL's ts_headline would
 mark words by its own parser's rules, and would have to run once per row.
 """
