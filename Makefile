@@ -59,8 +59,9 @@ demo: $(STAMP) $(UI_BUILT)
 test: $(STAMP) $(UI_BUILT)
 	@# chromium: the web app's end-to-end test drives it; mosquitto: the MQTT tests' broker
 	@# and clients (external mode, mosquitto_pub/sub against the embedded listener);
-	@# postgresql: the PostgreSQL backend's tests start a throwaway cluster of their own
-	@scripts/ensure-packages.sh chromium mosquitto mosquitto-clients postgresql
+	@# postgresql: the PostgreSQL backend's tests start a throwaway cluster of their own;
+	@# haproxy: the load balancer in front of the scale-out tests' nodes
+	@scripts/ensure-packages.sh chromium mosquitto mosquitto-clients postgresql haproxy
 	@# Apache Kafka's jars (Maven Central, cached in .cache/kafka): the Kafka bus tests' broker
 	@scripts/ensure-packages.sh openjdk-17-jre-headless maven
 	@scripts/ensure-kafka.sh >/dev/null
