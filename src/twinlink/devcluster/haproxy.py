@@ -1,0 +1,161 @@
+"""haproxy in front of twinlink nodes: the load balancer of the local cluster and of the
+scale-out fault tests and benchmark.
+
+HTTP mode, so WebSocket upgrades pass and each request may go to another node; the nodes'
+health check (`GET /readyz` by default, 200 when the node's store and bus answer) takes a
+node out after two failed checks and back after two good ones. A request whose connection to
+a node failed is sent to another (nothing reached the node); other failures are retried on
+another node only for requests that may be repeated (GET, HEAD, OPTIONS): a POST of telemetry
+that a node may have stored is never sent twice by the load balancer, the device's own retry
+with the same seq is what makes that safe. Each answer names the node that gave it in
+`X-Twinlink-Node` (node1, node2, ...), for tests and for a person reading a trace.
+
+Debian's package (`/usr/sbin/haproxy`, 2.6) runs in the foreground (-db) as a child that dies
+with its parent; its log (one line per request) is `haproxy.log` beside its config.
+"""
+
+from __future__ import annotations
+
+import shutil
+import signal
+import subprocess
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from twinlink.devcluster._process import dying_with_parent, free_ports, listening, stop_process
+
+START_S = 30.0
+STOP_S = 10.0
+NODE_HEADER = "X-Twinlink-Node"
+
+
+class HAProxyError(RuntimeError):
+    """haproxy is missing, refused its config or did not start listening."""
+
+
+@dataclass
+class HAProxy:
+    port: int  # the front end's port on 127.0.0.1
+    directory: Path  # its config and log
+    process: subprocess.Popen[bytes]
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.port}"
+
+    def log(self, tail: int = 4000) -> str:
+        try:
+            return (self.directory / "haproxy.log").read_text(errors="replace")[-tail:]
+        except OSError:
+            return ""
+
+    def stop(self) -> None:
+        """SIGTERM: haproxy closes every connection at once (SIGUSR1 would wait for open
+        WebSockets, up to the tunnel timeout of an hour)."""
+        stop_process(self.process, signal.SIGTERM, STOP_S)
+
+
+def haproxy_bin() -> Path:
+    found = shutil.which("haproxy") or shutil.which("haproxy", path="/usr/sbin:/usr/local/sbin")
+    if found is None:
+        raise HAProxyError(
+            "haproxy not found: install the Debian package haproxy "
+            "(scripts/ensure-packages.sh haproxy, which make test and make cluster run)"
+        )
+    return Path(found)
+
+
+def start_haproxy(
+    directory: Path,
+    port: int,
+    backends: list[tuple[str, int]],
+    health_path: str = "/readyz",
+    check_interval_ms: int = 500,
+) -> HAProxy:
+    """Start haproxy on 127.0.0.1:`port` (0: a free port, see `HAProxy.port`) in front of
+    `backends` (host, port); returns once it accepts connections. The nodes need not be up
+    yet: until their health checks pass haproxy answers 503."""
+    if not backends:
+        raise ValueError("haproxy needs at least one backend")
+    directory.mkdir(parents=True, exist_ok=True)
+    binary = haproxy_bin()
+    for _attempt in range(3):
+        chosen = port or free_ports(1)[0]
+        config = directory / "haproxy.cfg"
+        config.write_text(haproxy_config(chosen, backends, health_path, check_interval_ms))
+        with (directory / "haproxy.log").open("wb") as log:
+            process = subprocess.Popen(
+                [binary, "-db", "-f", config],
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                stdin=subprocess.DEVNULL,
+                preexec_fn=dying_with_parent(signal.SIGTERM),
+            )
+        proxy = HAProxy(chosen, directory, process)
+        if _wait_listening(proxy):
+            return proxy
+        proxy.stop()
+        # a port picked free was taken before haproxy bound it: pick another
+        if port == 0 and "cannot bind socket" in proxy.log():
+            continue
+        break
+    raise HAProxyError(f"haproxy did not start on port {chosen}:\n{proxy.log()}")
+
+
+def _wait_listening(proxy: HAProxy) -> bool:
+    deadline = time.monotonic() + START_S
+    while time.monotonic() < deadline:
+        if proxy.process.poll() is not None:
+            return False
+        if listening("127.0.0.1", proxy.port):
+            return True
+        time.sleep(0.05)  # polling the real state, with a deadline
+    return False
+
+
+def haproxy_config(
+    port: int, backends: list[tuple[str, int]], health_path: str, check_interval_ms: int
+) -> str:
+    servers = "\n".join(
+        f"    server node{i} {host}:{node_port} check"
+        for i, (host, node_port) in enumerate(backends, 1)
+    )
+    return f"""\
+global
+    log stdout format raw local0 info
+
+defaults
+    mode http
+    log global
+    option httplog
+    option dontlognull
+    timeout connect 5s
+    timeout client 60s
+    timeout server 60s
+    timeout http-request 10s
+    # an open WebSocket (device or browser) may be idle much longer than a request
+    timeout tunnel 1h
+    timeout client-fin 5s
+
+frontend twinlink
+    bind 127.0.0.1:{port}
+    option forwardfor
+    default_backend nodes
+
+backend nodes
+    balance roundrobin
+    option httpchk
+    http-check send meth GET uri {health_path} ver HTTP/1.1 hdr Host localhost
+    http-check expect status 200
+    default-server inter {check_interval_ms} fall 2 rise 2
+    # a failed connection sent nothing: try another node. An empty answer may come from a
+    # node that died after storing the request, so only requests that may be repeated are
+    # retried after one (a device resends its own batches with the same seq).
+    option redispatch 1
+    retries 2
+    retry-on conn-failure empty-response
+    http-request disable-l7-retry unless METH_GET or METH_OPTIONS
+    http-response set-header {NODE_HEADER} %[srv_name]
+{servers}
+"""
