@@ -6,22 +6,19 @@ each test a database of its own, created for it and dropped after. A module opts
 importing the fixtures (`from tests.integration._postgres import postgres_dsn as postgres_dsn`,
 and `postgres_cluster` beside it).
 
-initdb and postgres refuse to run as root: run as root (as CI is), the cluster belongs to the
-`postgres` user the package creates and the server runs as that user; run as anyone else, as
-that user. The server is this process's child from the first test that asks for it to the
-end of the run, so the hygiene check (tests/_hygiene.py) counts it, and the backends it
-forks for connections, as there before every test.
+Starting the server is twinlink.devcluster.postgres's (the local cluster's too); initdb and
+postgres refuse to run as root, so run as root (as CI is) the cluster belongs to the
+`postgres` user the package creates and the server runs as that user. The server is this
+process's child from the first test that asks for it to the end of the run, so the hygiene
+check (tests/_hygiene.py) counts it, and the backends it forks for connections, as there
+before every test.
 """
 
 from __future__ import annotations
 
-import ctypes
 import inspect
-import os
-import pwd
 import secrets
 import shutil
-import signal
 import subprocess
 import tempfile
 import time
@@ -37,6 +34,7 @@ import pytest
 
 from tests.conftest import free_port
 from tests.unit._storage import Stores, opened
+from twinlink.devcluster import postgres as devcluster_postgres
 from twinlink.store.history import HistoryStore
 from twinlink.store.postgres.commands import PostgresCommands
 from twinlink.store.postgres.db import PostgresDatabase
@@ -45,9 +43,8 @@ from twinlink.store.postgres.metadata import PostgresMetadataStore
 from twinlink.store.postgres.properties import PostgresProperties
 
 SQLITE_ONLY = frozenset({"sqlite_history"})  # fixtures of tests of SQLite's own workings
-START_S = 60.0  # a cold initdb and start on a busy 2-core machine take a few seconds
-SUPERUSER = "postgres"
-_PR_SET_PDEATHSIG = 1
+START_S = devcluster_postgres.START_S
+SUPERUSER = devcluster_postgres.SUPERUSER
 
 
 @dataclass(frozen=True)
@@ -62,81 +59,31 @@ class PostgresCluster:
 
 
 def postgres_bin() -> Path:
-    """The folder of the newest installed PostgreSQL's programs (Debian keeps them out of
-    PATH, in /usr/lib/postgresql/VERSION/bin)."""
-    versions = sorted(
-        Path("/usr/lib/postgresql").glob("*/bin/postgres"),
-        key=lambda p: int(p.parent.parent.name) if p.parent.parent.name.isdigit() else 0,
-    )
-    if versions:
-        return versions[-1].parent
-    found = shutil.which("postgres")
-    if found is None:
-        pytest.fail(
-            "PostgreSQL not found: install the Debian package postgresql (make test does: "
-            "scripts/ensure-packages.sh)"
-        )
-    return Path(found).parent
-
-
-def _run_as() -> dict[str, object]:
-    """Popen's arguments that run a program as the cluster's owner: `postgres` when we are
-    root, ourselves otherwise."""
-    if os.geteuid() != 0:
-        return {}
-    owner = pwd.getpwnam(SUPERUSER)
-    return {"user": owner.pw_uid, "group": owner.pw_gid, "extra_groups": []}
-
-
-def _ready(bin_dir: Path, port: int) -> bool:
-    done = subprocess.run(
-        [bin_dir / "pg_isready", "-q", "-h", "127.0.0.1", "-p", str(port)], check=False
-    )
-    return done.returncode == 0
-
-
-def _start(bin_dir: Path, folder: Path) -> tuple[subprocess.Popen[bytes], int]:
-    data, sockets = folder / "data", folder / "sockets"
-    sockets.mkdir()
-    if os.geteuid() == 0:
-        owner = pwd.getpwnam(SUPERUSER)
-        for path in (folder, sockets):
-            os.chown(path, owner.pw_uid, owner.pw_gid)
-    subprocess.run(
-        [bin_dir / "initdb", "-D", data, "-U", SUPERUSER, "--auth=trust", "-E", "UTF8",
-         "--locale=C.UTF-8", "--no-sync"],
-        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, **_run_as(),  # type: ignore[call-overload]
-    )  # fmt: skip
-    port = free_port()
-    log = (folder / "postgres.log").open("wb")
-    # fsync and full-page writes off: a crash of the test machine loses a throwaway cluster
-    server = subprocess.Popen(
-        [bin_dir / "postgres", "-D", data, "-p", str(port), "-k", sockets,
-         "-c", "listen_addresses=127.0.0.1", "-c", "fsync=off", "-c", "full_page_writes=off",
-         "-c", "synchronous_commit=off", "-c", "max_connections=200"],
-        stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-        # the fixture runs in pytest's main thread, whose exit is what the kernel watches
-        preexec_fn=_die_with_parent, **_run_as(),  # type: ignore[call-overload]
-    )  # fmt: skip
-    log.close()
-    return server, port
-
-
-def _die_with_parent() -> None:
-    """In the child before exec (after it became the cluster's owner, which would clear the
-    setting): the kernel stops the server at once (SIGQUIT, "immediate shutdown") when pytest
-    dies, even by SIGKILL, so an interrupted run leaves no server behind."""
-    libc = ctypes.CDLL(None, use_errno=True)
-    libc.prctl(_PR_SET_PDEATHSIG, signal.SIGQUIT)
-
-
-def _stop(server: subprocess.Popen[bytes]) -> None:
-    server.send_signal(signal.SIGINT)  # "fast" shutdown: ends the sessions, no waiting for them
+    """The folder of the newest installed PostgreSQL's programs (twinlink.devcluster.postgres);
+    the test fails saying what to install when there is none."""
     try:
-        server.wait(30)
-    except subprocess.TimeoutExpired:
-        server.kill()
-        server.wait()
+        return devcluster_postgres.postgres_bin()
+    except devcluster_postgres.PostgresError as err:
+        pytest.fail(str(err), pytrace=False)
+
+
+_run_as = devcluster_postgres.run_as
+_ready = devcluster_postgres.ready
+
+
+def _start(
+    bin_dir: Path, folder: Path, port: int | None = None
+) -> tuple[subprocess.Popen[bytes], int]:
+    """initdb in `folder` (unless done: starting again on the same folder and port is a
+    restart that keeps the data) and start a throwaway server (fsync off, trust on loopback)
+    on `port` or a free one, without waiting for it (`_ready`)."""
+    devcluster_postgres.initdb(bin_dir, folder, throwaway=True)
+    port = port or free_port()
+    # the fixture runs in pytest's main thread, whose exit is what the kernel watches
+    return devcluster_postgres.launch(bin_dir, folder, port, throwaway=True), port
+
+
+_stop = devcluster_postgres.stop_postgres
 
 
 @pytest.fixture(scope="session")
