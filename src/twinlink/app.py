@@ -32,6 +32,7 @@ from twinlink.api import connectors as connectors_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import mqtt as mqtt_api
+from twinlink.api.readiness import Readiness
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.auth.vault import Vault
@@ -281,8 +282,8 @@ def create_app(
         version=__version__,
         description="An open-source digital twin platform: DT documents, a twin registry with "
         "search, live data, processors and an API gateway (the Data Link). "
-        "Every endpoint needs `Authorization: Bearer <token>` except /healthz, login and "
-        "public DT documents.",
+        "Every endpoint needs `Authorization: Bearer <token>` except /healthz, /readyz, "
+        "login and public DT documents.",
         lifespan=_lifespan(services, settings, on_bootstrap, on_ready),
         docs_url=None,
         redoc_url=None,
@@ -291,6 +292,8 @@ def create_app(
     app.state.settings = settings
     app.state.services = services
     app.state.metrics = metrics
+    # /readyz and /healthz: the store's ping and the bus, bounded, one check in flight
+    app.state.readiness = Readiness(services.store, services.bus, settings.ready_timeout_s)
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
     routers_more = (processors, gateway_api, connectors_api, mqtt_api)
@@ -347,6 +350,7 @@ def _lifespan(
         finally:
             if cleanup is not None:
                 await cleanup()
+            await app.state.readiness.close()  # a probe's ping still in flight
             await stop_services(services)
 
     return lifespan

@@ -132,6 +132,14 @@ class Settings(BaseSettings):
         gt=0,
         description="Default time a command waits for the device's result before it expires.",
     )
+    ready_timeout_s: float = Field(
+        1,
+        gt=0,
+        le=60,
+        description="How long /readyz (and /healthz) wait for the store's ping and the bus, in "
+        "seconds; a part that has not answered by then makes the node not ready (503), so a "
+        "load balancer sends devices to another node.",
+    )
     blueprints_dir: Path | None = Field(
         None,
         description="A folder of extra blueprints (`name.py` files or `name/` packages, "

@@ -28,7 +28,7 @@ from twinlink.auth.service import MAX_TOKEN_LIFETIME_S
 pytestmark = pytest.mark.integration
 
 # The routes the policy lets through without a token. Everything else needs one.
-NO_TOKEN_OK = {("GET", "/healthz"), ("POST", "/api/v1/auth/login")}
+NO_TOKEN_OK = {("GET", "/healthz"), ("GET", "/readyz"), ("POST", "/api/v1/auth/login")}
 PUBLIC_DOCUMENT_ROUTES = {"/twins/{slug}", "/twins/{slug}/index.yaml", "/twins/{slug}/index.json"}
 
 
@@ -210,8 +210,11 @@ def test_wrong_or_garbage_token_is_refused_everywhere(server: Server, world: Wor
 def test_health_needs_no_token_even_with_a_bad_one(server: Server) -> None:
     with server.client("garbage") as c:
         r = c.get("/healthz")
+        ready = c.get("/readyz")
     assert r.status_code == 200
     assert r.json()["status"] == "ok"
+    assert ready.status_code == 200, ready.text  # a load balancer's probe sends no token
+    assert ready.json()["status"] == "ready"
 
 
 # -- tokens --------------------------------------------------------------------------------

@@ -291,6 +291,7 @@ def _users_and_tokens(w: Walk) -> None:
 
 def _system(w: Walk) -> None:
     w.ok(w.admin.get("/healthz"))
+    w.ok(w.admin.get("/readyz"))
     w.ok(w.admin.get("/metrics"))
     w.ok(w.admin.get("/api/v1/mqtt"))
 

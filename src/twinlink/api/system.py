@@ -1,4 +1,4 @@
-"""/healthz and /metrics."""
+"""/healthz, /readyz and /metrics."""
 
 from __future__ import annotations
 
@@ -11,8 +11,9 @@ from starlette.responses import Response
 
 from twinlink.api.deps import Bearer, optional_principal
 from twinlink.api.models.problem import problems
-from twinlink.api.models.system import Healthy
+from twinlink.api.models.system import Healthy, Ready
 from twinlink.api.problems import problem
+from twinlink.api.readiness import Readiness
 from twinlink.api.responses import JSONAnswer
 from twinlink.auth.service import AuthError
 from twinlink.domain.errors import ForbiddenError
@@ -27,13 +28,26 @@ router = APIRouter(tags=["system"])
     responses=problems(503),
 )
 async def healthz(request: Request) -> Response:
-    try:
-        ok = await request.app.state.services.store.ping()
-    except Exception:  # a broken store is what this endpoint exists to report
-        ok = False
-    if not ok:
-        return problem(503, "the store does not answer")
+    readiness: Readiness = request.app.state.readiness
+    # Bounded (TWINLINK_READY_TIMEOUT_S): a database that stopped answering makes this
+    # answer 503, not wait for ever.
+    if not await readiness.store_answers():
+        return problem(503, f"the store does not answer within {readiness.timeout_s:g} s")
     return JSONAnswer({"status": "ok", "version": request.app.version})
+
+
+@router.get(
+    "/readyz",
+    summary="Readiness for a load balancer: the store and the bus answer (no token needed)",
+    response_model=Ready,
+    responses=problems(503),
+)
+async def readyz(request: Request) -> Response:
+    """503 names what does not answer within TWINLINK_READY_TIMEOUT_S; never waits longer."""
+    verdict = await request.app.state.readiness.check()
+    if not verdict.ready:
+        return problem(503, "; ".join(verdict.failures))
+    return JSONAnswer({"status": "ready", "version": request.app.version})
 
 
 async def metrics_reader(request: Request, credentials: Bearer) -> None:

@@ -29,6 +29,10 @@ class Bus(Protocol):
 
     async def stop(self) -> None: ...
 
+    async def ready(self) -> bool:
+        """Whether the bus can carry messages now (for /readyz); may wait on the network,
+        and the caller bounds how long."""
+
     async def publish(self, subject: str, message: object) -> None:
         """Hand `message` to every current subscriber of `subject`."""
 

@@ -17,6 +17,9 @@ class MemoryBus:
     async def start(self) -> None:
         return None
 
+    async def ready(self) -> bool:
+        return True  # nothing outside the process to lose
+
     async def stop(self) -> None:
         self._exact.clear()
         self._prefix.clear()

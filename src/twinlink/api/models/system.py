@@ -1,4 +1,4 @@
-"""Answers of /healthz, /api/v1/mqtt and a device's batch (its ack)."""
+"""Answers of /healthz, /readyz, /api/v1/mqtt and a device's batch (its ack)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,13 @@ from pydantic import BaseModel, Field
 
 class Healthy(BaseModel):
     status: Literal["ok"]
+    version: str
+
+
+class Ready(BaseModel):
+    """The store answered its ping and the bus is usable, within TWINLINK_READY_TIMEOUT_S."""
+
+    status: Literal["ready"]
     version: str
 
 

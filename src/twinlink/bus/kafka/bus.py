@@ -103,6 +103,15 @@ class KafkaBus:
         self._consumer = self._producer = None
         await self._local.stop()
 
+    async def ready(self) -> bool:
+        """Started, reading, and a broker of the cluster takes a connection (the producer's
+        client opens one to a broker it knows when it has none; what /readyz asks)."""
+        if self._producer is None or self._reader is None or self._reader.done():
+            return False
+        client = self._producer.client
+        node = client.get_random_node()
+        return node is not None and bool(await client.ready(node))
+
     async def publish(self, subject: str, message: object) -> None:
         """Returns once Kafka has the message (acks=all); raises KafkaBusError if it does
         not take it, after the producer's own retries."""
