@@ -137,5 +137,7 @@ def pick_bus(settings: Settings) -> Bus:
     if settings.bus_url:
         from twinlink.bus.kafka import KafkaBus  # loads aiokafka: only when it is used
 
-        return KafkaBus(kafka_bootstrap(settings.bus_url))
+        return KafkaBus(
+            kafka_bootstrap(settings.bus_url), publish_timeout_s=settings.bus_publish_timeout_s
+        )
     return MemoryBus()

@@ -212,6 +212,14 @@ class Settings(BaseSettings):
         "Kafka, kafka://host:port[,host:port...] (the bootstrap brokers), shared by every "
         "node (docs/scale-out.md).",
     )
+    bus_publish_timeout_s: float = Field(
+        5,
+        gt=0,
+        le=120,
+        description="Kafka only: how long a publish waits for the brokers, in seconds. A device "
+        "batch stored but not on the bus by then is answered 503 with Retry-After and sent "
+        "again by the device (docs/decisions/0013).",
+    )
     ui_dir: Path | None = Field(
         None,
         description="Folder of the built web app served at /app/ "

@@ -37,6 +37,7 @@ from twinlink.domain.errors import (
     StorageFullError,
     TooManySignalsError,
     TwinlinkError,
+    UnavailableError,
     WriteConflictError,
 )
 from twinlink.domain.history import (
@@ -138,6 +139,7 @@ TITLES = {
 }
 BEARER = {"www-authenticate": 'Bearer realm="twinlink"'}
 RETRY = {"retry-after": "30"}
+BUS_RETRY = {"retry-after": "5"}  # a broker restart takes seconds
 CASES = [
     Case(NotFoundError("no twin 'crane'"), 404, "no twin 'crane'"),
     Case(NotFoundError(), 404, "not found"),
@@ -192,7 +194,15 @@ CASES = [
     Case(QueryTimeoutError("over 10 s"), 503, "over 10 s"),
     Case(ReadCancelledError("the server is shutting down"), 503, "the server is shutting down"),
     Case(LiveMessageError("a message needs an op"), 422, "a message needs an op"),
-    Case(KafkaBusError("Kafka cannot be reached; retry"), 503, "Kafka cannot be reached; retry"),
+    Case(
+        UnavailableError("the bus is away; retry"), 503, "the bus is away; retry", headers=BUS_RETRY
+    ),
+    Case(
+        KafkaBusError("Kafka cannot be reached; retry"),
+        503,
+        "Kafka cannot be reached; retry",
+        headers=BUS_RETRY,
+    ),
     Case(UnencodableMessageError("no form for a set"), 422, "no form for a set"),
     Case(
         GatewayProblem(405, "the service 'x' allows GET", headers=[(b"allow", b"GET")]),

@@ -35,6 +35,8 @@ TITLES = {
 # A client told that storage failed tries again after this long (Retry-After): long enough
 # for an administrator to notice, short enough that nothing waits needlessly once fixed.
 STORAGE_RETRY_AFTER_S = 30
+# The same for the bus between nodes (Kafka): a broker restart takes seconds, not minutes.
+UNAVAILABLE_RETRY_AFTER_S = 5
 
 
 def title_of(status: int) -> str:
@@ -188,6 +190,16 @@ class StorageError(TwinlinkError):
         # Counted and logged (once a minute) where it happened, in the store: the answer
         # only says when to try again.
         return {"Retry-After": str(STORAGE_RETRY_AFTER_S)}
+
+
+class UnavailableError(TwinlinkError):
+    """A service the request needs besides the store (the bus between nodes) cannot be
+    reached or did not answer in time: the same request may succeed later (Retry-After)."""
+
+    status = 503
+
+    def problem_headers(self) -> dict[str, str]:
+        return {"Retry-After": str(UNAVAILABLE_RETRY_AFTER_S)}
 
 
 class StorageFullError(StorageError):

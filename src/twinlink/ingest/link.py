@@ -13,7 +13,7 @@ import logging
 import time
 from typing import Any
 
-from twinlink.domain.errors import StorageError, TooManySignalsError
+from twinlink.domain.errors import StorageError, TooManySignalsError, UnavailableError
 from twinlink.domain.records import Device
 from twinlink.domain.samples import BatchError
 from twinlink.ingest.service import IngestService
@@ -112,6 +112,8 @@ class DeviceLink:
         except (BatchError, TooManySignalsError) as err:
             self.error(str(err), seq=seq)
         except StorageError as err:  # counted and logged (once a minute) by the store
+            self.error(str(err), seq=seq, retry=True)
+        except UnavailableError as err:  # the bus (Kafka) away: stored or not, send it again
             self.error(str(err), seq=seq, retry=True)
         except Exception:
             log.exception("storing a batch failed", extra={"event": "ingest_failed"})

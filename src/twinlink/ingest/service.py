@@ -3,7 +3,9 @@
 The path of one batch: read and check it against the twin's interface (`domain.samples`),
 store it in history (group commit; a `seq` already stored is not stored twice), then publish
 it on the bus for live clients and processors, then answer the device. Live clients therefore
-only ever see samples that are durable.
+only ever see samples that are durable, and a device is acknowledged only once its batch is
+both stored and on the bus (docs/decisions/0013): when the bus fails after the commit, the
+device gets an error (503), sends the batch again, and the resend publishes what was stored.
 """
 
 from __future__ import annotations
@@ -86,7 +88,8 @@ class IngestService:
     async def ingest(self, device: Device, body: Any) -> Ack:
         """Store one batch from `device`. Raises BatchError when it cannot be read at all,
         TooManySignalsError when it would give its stream too many signals (nothing of it is
-        stored in either case), StorageError when the disk refused it (send it again)."""
+        stored in either case), StorageError when the disk refused it, UnavailableError
+        (KafkaBusError) when the bus did not take it (send it again in both cases)."""
         received_ns = time.time_ns()
         schema = await self.schema_for(device.twin_id)
         read = read_batch(body, schema, received_ns)
@@ -103,8 +106,12 @@ class IngestService:
                 seq=read.seq,
             )
             duplicate = not await self.history.append(batch, device.id)
-            if not duplicate:
+            # A resend of a batch stored before whose publish failed (the bus away after the
+            # commit, or the node stopped between the two) is published now: the device was
+            # not acknowledged, so nothing else will put it on the bus. Only duplicates ask.
+            if not duplicate or await self.history.unpublished(device.id, read.seq):
                 await self.bus.publish(samples_subject(device.twin_id, read.stream), batch)
+                self.history.published(device.id, read.seq)
         return self._ack(read, duplicate)
 
     async def publish(self, batch: SampleBatch) -> None:

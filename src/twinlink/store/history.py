@@ -30,6 +30,18 @@ class HistoryWriterStore(Protocol):
         stored (nothing is written again). Returns only once the batch is durable."""
         ...
 
+    async def unpublished(self, device_id: int, seq: int) -> bool:
+        """Whether this device's `seq`, stored (`append` said False), may not have reached
+        the bus: its publish failed after the commit, or its node stopped between the two.
+        The resend that asks publishes it then (docs/decisions/0013). Always False where the
+        bus cannot fail (embedded)."""
+        ...
+
+    def published(self, device_id: int, seq: int) -> None:
+        """Note that the device's batch `seq` is on the bus. May be kept lazily: a note lost
+        costs a duplicate on the bus when the batch is sent again, never a lost sample."""
+        ...
+
 
 class HistoryReadStore(Protocol):
     """The read side, used by the history API and live clients' first values. Every read

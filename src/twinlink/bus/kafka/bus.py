@@ -28,7 +28,7 @@ from twinlink.bus.base import Handler, Unsubscribe
 from twinlink.bus.kafka.codec import UndecodableRecordError, decode, encode
 from twinlink.bus.kafka.topics import key_of, topic_names, topic_of
 from twinlink.bus.memory import MemoryBus
-from twinlink.domain.errors import TwinlinkError
+from twinlink.domain.errors import UnavailableError
 
 log = logging.getLogger("twinlink.bus")
 
@@ -40,10 +40,8 @@ _RETRY_S = 1.0
 _TOPICS_WAIT_S = 30.0
 
 
-class KafkaBusError(TwinlinkError):
-    """Kafka could not be reached, or did not take a message."""
-
-    status = 503
+class KafkaBusError(UnavailableError):
+    """Kafka could not be reached, or did not take a message (503, Retry-After)."""
 
 
 class KafkaBus:
@@ -56,11 +54,14 @@ class KafkaBus:
         replication_factor: int = 1,
         client_id: str = "twinlink",
         linger_ms: int = 1,
+        publish_timeout_s: float = 5.0,
     ) -> None:
         """`bootstrap_servers` is "host:port[,host:port...]". `partitions` and
         `replication_factor` apply to the topics this bus creates when they do not exist
         yet (a cluster of three brokers wants 3 and min.insync.replicas=2). `linger_ms`
-        is how long the producer waits to put concurrent publishes in one request."""
+        is how long the producer waits to put concurrent publishes in one request.
+        `publish_timeout_s` bounds how long `publish` waits for Kafka (the producer alone
+        would wait up to its 40 s request timeout while the brokers are away)."""
         self.bootstrap_servers = bootstrap_servers
         self.topic_prefix = topic_prefix
         self.topics = topic_names(topic_prefix)
@@ -68,6 +69,7 @@ class KafkaBus:
         self._replication = replication_factor
         self._client_id = client_id
         self._linger_ms = linger_ms
+        self.publish_timeout_s = publish_timeout_s
         self._local = MemoryBus()  # this node's subscriptions and their dispatch
         self._producer: AIOKafkaProducer | None = None
         self._consumer: AIOKafkaConsumer | None = None
@@ -114,14 +116,24 @@ class KafkaBus:
 
     async def publish(self, subject: str, message: object) -> None:
         """Returns once Kafka has the message (acks=all); raises KafkaBusError if it does
-        not take it, after the producer's own retries."""
+        not take it, after the producer's own retries, or has not within
+        `publish_timeout_s`. A message given up on that way may still be in the producer's
+        buffer and reach Kafka later: whoever sends it again after the error makes it a
+        duplicate on the bus, never a message lost (docs/decisions/0013)."""
         if self._producer is None:
             raise RuntimeError("KafkaBus.publish before start()")
         record = encode(subject, message)
         try:
-            await self._producer.send_and_wait(
-                topic_of(subject, self.topic_prefix), record, key=key_of(subject)
-            )
+            async with asyncio.timeout(self.publish_timeout_s):
+                await self._producer.send_and_wait(
+                    topic_of(subject, self.topic_prefix), record, key=key_of(subject)
+                )
+        except TimeoutError as err:
+            raise KafkaBusError(
+                f"Kafka at {self.bootstrap_servers} did not take the message for {subject} "
+                f"within {self.publish_timeout_s:g} s (TWINLINK_BUS_PUBLISH_TIMEOUT_S): it may "
+                "be restarting or unreachable; send it again later"
+            ) from err
         except KafkaError as err:
             raise KafkaBusError(
                 f"Kafka at {self.bootstrap_servers} did not take the message for {subject}: {err!r}"

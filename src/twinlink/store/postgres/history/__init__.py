@@ -19,6 +19,7 @@ from twinlink.store.postgres.history.aggregate import aggregate
 from twinlink.store.postgres.history.budget import ReadLimits, reading
 from twinlink.store.postgres.history.downsample import downsample
 from twinlink.store.postgres.history.export import export_pieces
+from twinlink.store.postgres.history.published import PublishedMarks
 from twinlink.store.postgres.history.series import select_series
 from twinlink.store.postgres.history.writer import MAX_SIGNALS_PER_STREAM, HistoryWriter
 
@@ -35,16 +36,24 @@ class PostgresHistory:
     ) -> None:
         self.db = db
         self.writer = HistoryWriter(db, max_signals_per_stream)
+        self.marks = PublishedMarks(db)
         self.limits = limits or ReadLimits()
 
     async def open(self) -> None:
         """Nothing of its own to open: the shared database is opened before it."""
 
     async def close(self) -> None:
-        """Nothing of its own to close."""
+        """Writes the published marks still pending; the shared database is closed after."""
+        await self.marks.close()
 
     async def append(self, batch: SampleBatch, device_id: int | None = None) -> bool:
         return await self.writer.append(batch, device_id)
+
+    async def unpublished(self, device_id: int, seq: int) -> bool:
+        return await self.marks.unpublished(device_id, seq)
+
+    def published(self, device_id: int, seq: int) -> None:
+        self.marks.mark(device_id, seq)
 
     # -- reads: each in a read-only transaction, under a budget of time and values -------
 

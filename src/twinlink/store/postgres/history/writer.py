@@ -2,10 +2,11 @@
 
 In that transaction: the rows of the batch's series are locked (in id order, so writers of
 one stream on several nodes queue instead of deadlocking), the batch's (device, seq) is
-recorded (a resent batch finds it there and writes nothing: `append` returns False), its
-samples go in with COPY (one row per value, typed by the kind of its signal in this batch),
-and the summaries /streams shows and the latest values are brought up to date. The ack
-follows the commit, so an acknowledged batch is durable in PostgreSQL; two nodes sending the
+recorded, as not yet published (a resent batch finds it there and writes nothing: `append`
+returns False; published.py says whether it still has to go on the bus), its samples go
+in with COPY (one row per value, typed by the kind of its signal in this batch), and the
+summaries /streams shows and the latest values are brought up to date. The ack follows
+the commit, so an acknowledged batch is durable in PostgreSQL; two nodes sending the
 same (device, seq) at once store it once (the second waits for the first's commit, then
 finds its row in `ingested`). Series ids are cached per node; when another node deleted the
 twin's history meanwhile, the batch looks them up (makes them) again.
@@ -142,8 +143,8 @@ class HistoryWriter:
                     return None
                 if device_id is not None and batch.seq is not None:
                     status = await conn.execute(
-                        "INSERT INTO ingested (device_id, seq, at_ns) VALUES ($1, $2, $3) "
-                        "ON CONFLICT DO NOTHING",
+                        "INSERT INTO ingested (device_id, seq, at_ns, published) "
+                        "VALUES ($1, $2, $3, false) ON CONFLICT DO NOTHING",
                         device_id, batch.seq, batch.received_ns,
                     )  # fmt: skip
                     if status.endswith(" 0"):

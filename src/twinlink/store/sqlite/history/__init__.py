@@ -70,6 +70,14 @@ class SqliteHistory:
     async def append(self, batch: SampleBatch, device_id: int | None = None) -> bool:
         return await self.writer.append(batch, device_id)
 
+    async def unpublished(self, device_id: int, seq: int) -> bool:
+        # The in-process bus cannot refuse a batch: every stored one was published (or its
+        # process ended between the two, and with it every subscriber of the bus).
+        return False
+
+    def published(self, device_id: int, seq: int) -> None:
+        """Nothing to note: see `unpublished`."""
+
     async def write(self, fn: WriteFn) -> object:
         """Run `fn(conn)` inside the next group commit; its result once committed (the
         command log and device properties write this way)."""
