@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, Literal
 from urllib.parse import urlsplit
 
-from pydantic import Field, SecretStr, ValidationError, field_validator
+from pydantic import Field, SecretStr, ValidationError, field_validator, model_validator
 from pydantic_settings import (
     BaseSettings,
     PydanticBaseSettingsSource,
@@ -220,6 +220,14 @@ class Settings(BaseSettings):
         "batch stored but not on the bus by then is answered 503 with Retry-After and sent "
         "again by the device (docs/decisions/0013).",
     )
+    workers: int = Field(
+        1,
+        ge=1,
+        le=64,
+        description="Server processes on this machine, sharing the HTTP port and the embedded "
+        "MQTT listener's (`twinlink up --workers N`). More than 1 needs the shared store and bus "
+        "(TWINLINK_STORE_URL and TWINLINK_BUS_URL), as several nodes do (docs/scale-out.md).",
+    )
     ui_dir: Path | None = Field(
         None,
         description="Folder of the built web app served at /app/ "
@@ -273,6 +281,24 @@ class Settings(BaseSettings):
         if url:
             kafka_bootstrap(url)  # raises ValueError saying what is wrong
         return url
+
+    @model_validator(mode="after")
+    def _workers_share(self) -> Settings:
+        """Workers are nodes on one machine: they share state and messages only through
+        PostgreSQL and Kafka."""
+        if self.workers == 1:
+            return self
+        if not self.store_url.get_secret_value() or not self.bus_url:
+            raise ValueError(
+                "several workers need the shared store and bus: set TWINLINK_STORE_URL "
+                "(PostgreSQL) and TWINLINK_BUS_URL (Kafka), or run one worker"
+            )
+        if self.mqtt_mode == "external":
+            raise ValueError(
+                "several workers cannot share one session at the external MQTT broker (each "
+                "would receive every message); run one worker, or TWINLINK_MQTT_MODE=embedded"
+            )
+        return self
 
     @classmethod
     def settings_customise_sources(
@@ -350,7 +376,8 @@ def load_settings(config_file: str | None = None, **overrides: Any) -> Settings:
         return Settings(**clean)
     except ValidationError as err:
         lines = [
-            f"TWINLINK_{'_'.join(str(x) for x in e['loc']).upper()}: "
+            # A check of several settings together (loc empty) names them in its message.
+            (f"TWINLINK_{'_'.join(str(x) for x in e['loc']).upper()}: " if e["loc"] else "")
             + e["msg"].removeprefix("Value error, ")  # what a validator of ours says
             for e in err.errors(include_url=False)
         ]

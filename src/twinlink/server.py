@@ -98,13 +98,24 @@ def listen(settings: Settings) -> socket.socket:
     return sock
 
 
+def announce(settings: Settings) -> None:
+    # Scripts and tests wait for this line; keep its wording stable.
+    print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
+
+
 def serve(
     settings: Settings,
     on_ready: Callable[[Services], object] | None = None,
     on_bootstrap: Callable[[Bootstrap], None] = print_bootstrap,
+    *,
+    sock: socket.socket | None = None,
+    serving: Callable[[Settings], None] = announce,
 ) -> None:
+    """Run the server until it is stopped. `sock`: a listening socket to serve on instead of
+    binding one (a worker's, inherited from `twinlink up --workers`); `serving` is called
+    once it serves."""
     setup_logging(settings.log_level, settings.log_format)
-    sock = listen(settings)
+    sock = sock or listen(settings)
     cleanups: list[Cleanup] = []
 
     async def ready(services: Services) -> None:
@@ -114,8 +125,7 @@ def serve(
                 result = await result
             if callable(result):  # a cleanup coroutine function
                 cleanups.append(result)
-        # Scripts and tests wait for this line; keep its wording stable.
-        print(f"twinlink serving at {settings.base_url}", file=sys.stderr, flush=True)
+        serving(settings)
 
     app = create_app(settings, on_bootstrap=on_bootstrap, on_ready=ready)
     # uvicorn raises the SIGINT it stopped for again once it has stopped cleanly; ending here

@@ -96,3 +96,40 @@ def test_up_takes_them_as_flags_and_stops_on_a_bad_one_with_the_message(
     assert PASSWORD not in done.output and PASSWORD not in caplog.text
     done = CliRunner().invoke(main, ["up", "--bus-url", "kafka://k"])
     assert done.exit_code != 0 and "TWINLINK_BUS_URL: k is not host:port" in done.output
+
+
+PG = f"postgresql://twin:{PASSWORD}@db/twinlink"
+
+
+def test_one_worker_by_default_and_several_with_the_shared_store_and_bus() -> None:
+    assert Settings().workers == 1
+    s = load_settings(None, workers=3, store_url=PG, bus_url="kafka://k1:9092")
+    assert s.workers == 3
+
+
+@pytest.mark.parametrize(
+    ("overrides", "says"),
+    [
+        ({}, "several workers need the shared store and bus"),
+        ({"store_url": PG}, "several workers need the shared store and bus"),
+        ({"bus_url": "kafka://k1:9092"}, "several workers need the shared store and bus"),
+        (
+            {"store_url": PG, "bus_url": "kafka://k1:9092", "mqtt_mode": "external"},
+            "cannot share one session at the external MQTT broker",
+        ),
+    ],
+)
+def test_several_workers_without_what_they_share_are_refused(
+    overrides: dict[str, str], says: str
+) -> None:
+    with pytest.raises(ConfigError) as refused:
+        load_settings(None, workers=2, **overrides)
+    assert says in str(refused.value)
+    assert "TWINLINK_:" not in str(refused.value)  # a check of several settings names them
+    assert PASSWORD not in str(refused.value)
+
+
+def test_up_with_workers_but_no_postgres_says_what_to_set() -> None:
+    done = CliRunner().invoke(main, ["up", "--workers", "2", "--port", "0"])
+    assert done.exit_code != 0
+    assert "TWINLINK_STORE_URL" in done.output and "TWINLINK_BUS_URL" in done.output

@@ -3,6 +3,7 @@ from its package, examples/demo)."""
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -55,6 +56,12 @@ def _add_server_options(fn: F, data_dir_default: str) -> F:
     help="Apache Kafka brokers shared by the nodes, kafka://host:port[,host:port...]. "
     "Env: TWINLINK_BUS_URL [default: the in-process bus].",
 )
+@click.option(
+    "--workers",
+    type=click.IntRange(1, 64),
+    help="Server processes on this machine, sharing the port; more than 1 needs the store and "
+    "bus URLs (PostgreSQL and Kafka). Env: TWINLINK_WORKERS [default: 1].",
+)
 def up(
     host: str | None,
     port: int | None,
@@ -62,13 +69,19 @@ def up(
     config_file: str | None,
     store_url: str | None,
     bus_url: str | None,
+    workers: int | None,
 ) -> None:
     """Run the twinlink server."""
+    settings = load_settings(
+        config_file, host=host, port=port, data_dir=data_dir, store_url=store_url,
+        bus_url=bus_url, workers=workers,
+    )  # fmt: skip
+    if settings.workers > 1:
+        from twinlink.workers import run
+
+        sys.exit(run(settings))
     from twinlink.server import serve
 
-    settings = load_settings(
-        config_file, host=host, port=port, data_dir=data_dir, store_url=store_url, bus_url=bus_url
-    )
     serve(settings)
 
 

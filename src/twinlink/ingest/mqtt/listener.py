@@ -39,8 +39,12 @@ class EmbeddedListener:
         scheme: TopicScheme,
         status: MqttStatus,
         max_packet_bytes: int,
+        reuse_port: bool = False,
     ) -> None:
         self.platform = platform
+        # Workers of one `twinlink up --workers N` listen on one port, each with its own socket
+        # (SO_REUSEPORT): the kernel spreads the connections between them.
+        self.reuse_port = reuse_port
         self.host = host
         self.port = port
         self.scheme = scheme
@@ -55,7 +59,9 @@ class EmbeddedListener:
 
     async def open(self) -> None:
         try:
-            self._server = await asyncio.start_server(self._serve, self.host, self.port)
+            self._server = await asyncio.start_server(
+                self._serve, self.host, self.port, reuse_port=self.reuse_port or None
+            )
         except OSError as err:
             raise ListenerError(
                 f"MQTT cannot listen on {self.host}:{self.port}: {err.strerror}; set "

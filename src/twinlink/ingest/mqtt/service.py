@@ -42,7 +42,7 @@ class MqttService:
         if settings.mqtt_mode == "embedded":
             self.listener = EmbeddedListener(
                 platform, settings.mqtt_host, settings.mqtt_port, scheme, self.status,
-                MAX_MESSAGE_BYTES,
+                MAX_MESSAGE_BYTES, reuse_port=settings.workers > 1,
             )  # fmt: skip
             self._mode = self.listener
         elif settings.mqtt_mode == "external":
