@@ -160,7 +160,7 @@ def build_services(settings: Settings) -> Services:
         connectors=ConnectorService(
             store, registry, devices, hub, ingest, vault, stores.claims("connector")
         ),
-        mqtt=MqttService(settings, devices, hub, ingest),
+        mqtt=MqttService(settings, devices, hub, ingest, stores.claims("mqtt-broker")),
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
     )
 

@@ -293,11 +293,6 @@ class Settings(BaseSettings):
                 "several workers need the shared store and bus: set TWINLINK_STORE_URL "
                 "(PostgreSQL) and TWINLINK_BUS_URL (Kafka), or run one worker"
             )
-        if self.mqtt_mode == "external":
-            raise ValueError(
-                "several workers cannot share one session at the external MQTT broker (each "
-                "would receive every message); run one worker, or TWINLINK_MQTT_MODE=embedded"
-            )
         return self
 
     @classmethod

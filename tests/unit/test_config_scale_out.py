@@ -113,10 +113,6 @@ def test_one_worker_by_default_and_several_with_the_shared_store_and_bus() -> No
         ({}, "several workers need the shared store and bus"),
         ({"store_url": PG}, "several workers need the shared store and bus"),
         ({"bus_url": "kafka://k1:9092"}, "several workers need the shared store and bus"),
-        (
-            {"store_url": PG, "bus_url": "kafka://k1:9092", "mqtt_mode": "external"},
-            "cannot share one session at the external MQTT broker",
-        ),
     ],
 )
 def test_several_workers_without_what_they_share_are_refused(

@@ -11,6 +11,7 @@ from typing import Any, Protocol
 
 from twinlink.config import Settings
 from twinlink.ingest.mqtt.external import ExternalBroker
+from twinlink.ingest.mqtt.leased import LeasedBroker
 from twinlink.ingest.mqtt.listener import EmbeddedListener
 from twinlink.ingest.mqtt.platform import MAX_MESSAGE_BYTES, Platform
 from twinlink.ingest.mqtt.status import MqttStatus
@@ -18,6 +19,7 @@ from twinlink.ingest.mqtt.topics import TopicScheme
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
 from twinlink.registry.devices import DeviceService
+from twinlink.store.leases import Claims
 
 
 class _Mode(Protocol):
@@ -31,8 +33,15 @@ class MqttService:
     the setting to change), `await close()` at stop, `view()` for status."""
 
     def __init__(
-        self, settings: Settings, devices: DeviceService, hub: DeviceHub, ingest: IngestService
+        self,
+        settings: Settings,
+        devices: DeviceService,
+        hub: DeviceHub,
+        ingest: IngestService,
+        claims: Claims | None = None,
     ) -> None:
+        """`claims`: on a store shared by several nodes, the lease that lets one node hold the
+        external broker's session (ingest/mqtt/leased.py)."""
         self.status = MqttStatus(settings.mqtt_mode)
         platform = Platform(devices, hub, ingest)
         scheme = TopicScheme(settings.mqtt_topic_prefix)
@@ -57,6 +66,8 @@ class MqttService:
                 self.status,
             )
             self._mode = self.broker
+            if claims is not None:
+                self._mode = LeasedBroker(self.broker, claims, self.status)
 
     async def open(self) -> None:
         if self._mode is not None:
