@@ -56,6 +56,7 @@ class Twinlink:
     _reader: threading.Thread | None = None
     spawned_at: float = 0.0
     ready_line_at: float | None = None
+    env: dict[str, str] = field(default_factory=dict)  # more environment (PostgreSQL, Kafka)
 
     @property
     def url(self) -> str:
@@ -75,6 +76,7 @@ class Twinlink:
             "TWINLINK_ADMIN_PASSWORD": self.admin_password,
             "TWINLINK_LOG_LEVEL": "warning",
             "TWINLINK_MQTT_PORT": "0",
+            **self.env,
         }
         env.pop("TWINLINK_CONFIG", None)
         self.output.clear()
