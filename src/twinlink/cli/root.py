@@ -10,6 +10,7 @@ import click
 from twinlink.cli.admin import devices, tokens, twins, users
 from twinlink.cli.apply import apply
 from twinlink.cli.client import ApiCallError
+from twinlink.cli.cluster import cluster
 from twinlink.cli.commands import commands, properties, send
 from twinlink.cli.common import HelpGroup
 from twinlink.cli.connectors import connectors
@@ -60,6 +61,7 @@ def main(ctx: click.Context, url: str | None, token: str | None) -> None:
 COMMANDS: tuple[click.Command, ...] = (
     up,
     demo,
+    cluster,
     login,
     logout,
     apply,

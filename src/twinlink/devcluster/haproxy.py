@@ -16,9 +16,12 @@ with its parent; its log (one line per request) is `haproxy.log` beside its conf
 
 from __future__ import annotations
 
+import csv
 import shutil
 import signal
+import socket
 import subprocess
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,6 +31,7 @@ from twinlink.devcluster._process import dying_with_parent, free_ports, listenin
 START_S = 30.0
 STOP_S = 10.0
 NODE_HEADER = "X-Twinlink-Node"
+STATS_SOCKET = "haproxy.sock"  # in its folder, for HAProxy.server_states
 
 
 class HAProxyError(RuntimeError):
@@ -39,6 +43,7 @@ class HAProxy:
     port: int  # the front end's port on 127.0.0.1
     directory: Path  # its config and log
     process: subprocess.Popen[bytes]
+    stats_socket: Path | None = None  # haproxy's admin socket (server_states)
 
     @property
     def url(self) -> str:
@@ -50,10 +55,27 @@ class HAProxy:
         except OSError:
             return ""
 
+    def server_states(self) -> dict[str, str]:
+        """Each node's state as haproxy sees it ("UP", "DOWN", "UP 1/2", "MAINT", ...), by
+        server name (node1, node2, ...), from its stats socket."""
+        with socket.socket(socket.AF_UNIX) as conn:
+            conn.settimeout(5)
+            conn.connect(str(self.stats_socket or self.directory / STATS_SOCKET))
+            conn.sendall(b"show stat -1 4 -1\n")  # every proxy, servers only, every server
+            answer = b"".join(iter(lambda: conn.recv(65536), b""))
+        rows = csv.reader(answer.decode().lstrip("# ").splitlines())
+        header = next(rows, [])
+        if "svname" not in header or "status" not in header:
+            raise HAProxyError(f"haproxy's stats socket answered {answer[:200]!r}")
+        name, status = header.index("svname"), header.index("status")
+        return {row[name]: row[status] for row in rows if len(row) > status}
+
     def stop(self) -> None:
         """SIGTERM: haproxy closes every connection at once (SIGUSR1 would wait for open
         WebSockets, up to the tunnel timeout of an hour)."""
         stop_process(self.process, signal.SIGTERM, STOP_S)
+        if self.stats_socket is not None and self.stats_socket.parent != self.directory.resolve():
+            shutil.rmtree(self.stats_socket.parent, ignore_errors=True)  # its private folder
 
 
 def haproxy_bin() -> Path:
@@ -80,10 +102,13 @@ def start_haproxy(
         raise ValueError("haproxy needs at least one backend")
     directory.mkdir(parents=True, exist_ok=True)
     binary = haproxy_bin()
+    stats_socket = _stats_socket_path(directory)
     for _attempt in range(3):
         chosen = port or free_ports(1)[0]
         config = directory / "haproxy.cfg"
-        config.write_text(haproxy_config(chosen, backends, health_path, check_interval_ms))
+        config.write_text(
+            haproxy_config(chosen, backends, health_path, check_interval_ms, stats_socket)
+        )
         with (directory / "haproxy.log").open("wb") as log:
             process = subprocess.Popen(
                 [binary, "-db", "-f", config],
@@ -91,8 +116,9 @@ def start_haproxy(
                 stderr=subprocess.STDOUT,
                 stdin=subprocess.DEVNULL,
                 preexec_fn=dying_with_parent(signal.SIGTERM),
+                process_group=0,  # a Ctrl-C in the terminal reaches the launcher alone
             )
-        proxy = HAProxy(chosen, directory, process)
+        proxy = HAProxy(chosen, directory, process, stats_socket)
         if _wait_listening(proxy):
             return proxy
         proxy.stop()
@@ -101,6 +127,15 @@ def start_haproxy(
             continue
         break
     raise HAProxyError(f"haproxy did not start on port {chosen}:\n{proxy.log()}")
+
+
+def _stats_socket_path(directory: Path) -> Path:
+    """The stats socket in haproxy's folder, unless that path is too long for a Unix socket
+    (108 bytes on Linux; pytest's folders can be): then a private folder in /tmp."""
+    path = directory.resolve() / STATS_SOCKET
+    if len(str(path)) < 100:
+        return path
+    return Path(tempfile.mkdtemp(prefix="twinlink-haproxy-")) / STATS_SOCKET
 
 
 def _wait_listening(proxy: HAProxy) -> bool:
@@ -115,7 +150,11 @@ def _wait_listening(proxy: HAProxy) -> bool:
 
 
 def haproxy_config(
-    port: int, backends: list[tuple[str, int]], health_path: str, check_interval_ms: int
+    port: int,
+    backends: list[tuple[str, int]],
+    health_path: str,
+    check_interval_ms: int,
+    stats_socket: Path,
 ) -> str:
     servers = "\n".join(
         f"    server node{i} {host}:{node_port} check"
@@ -124,6 +163,7 @@ def haproxy_config(
     return f"""\
 global
     log stdout format raw local0 info
+    stats socket {stats_socket} mode 600 level operator
 
 defaults
     mode http

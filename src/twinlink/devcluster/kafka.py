@@ -118,6 +118,7 @@ def _start_once(directory: Path, libs: Path, port: int, controller_port: int) ->
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
             preexec_fn=dying_with_parent(signal.SIGKILL),
+            process_group=0,  # a Ctrl-C in the terminal reaches the launcher alone
         )
     broker = KafkaBroker(f"127.0.0.1:{port}", directory, process, libs, controller_port)
     try:

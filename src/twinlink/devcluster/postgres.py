@@ -45,12 +45,14 @@ class PostgresServer:
             return ""
 
     def psql(self, sql: str, database: str = "postgres") -> str:
-        """Run `sql` as the superuser over the Unix socket; its output, or PostgresError."""
+        """Run `sql` as the superuser over the Unix socket; its output, or PostgresError. The
+        SQL goes in on standard input: a password in it never shows in the process list."""
         done = subprocess.run(
             [self.bin_dir / "psql", "-X", "-q", "-t", "-A", "-v", "ON_ERROR_STOP=1",
              "-h", self.folder / "sockets", "-p", str(self.port), "-U", SUPERUSER,
-             "-d", database, "-c", sql],
-            capture_output=True, text=True, check=False, **run_as(),  # type: ignore[call-overload]
+             "-d", database, "-f", "-"],
+            input=sql, capture_output=True, text=True, check=False,
+            **run_as(),  # type: ignore[call-overload]
         )  # fmt: skip
         if done.returncode != 0:
             raise PostgresError(f"psql failed: {done.stderr.strip()}")
@@ -128,7 +130,9 @@ def launch(bin_dir: Path, folder: Path, port: int, *, throwaway: bool) -> subpro
             stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
             # SIGQUIT is PostgreSQL's "immediate shutdown"; set in the child after it became
             # the cluster's owner (which would clear the setting)
-            preexec_fn=dying_with_parent(signal.SIGQUIT), **run_as(),  # type: ignore[call-overload]
+            preexec_fn=dying_with_parent(signal.SIGQUIT),
+            process_group=0,  # a Ctrl-C in the terminal reaches the launcher alone
+            **run_as(),  # type: ignore[call-overload]
         )  # fmt: skip
     return server
 
