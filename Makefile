@@ -1,5 +1,6 @@
 # The documented commands. Each target installs what it needs first.
 #   make demo   the platform with the example twins, on http://127.0.0.1:8000 (web app at /app/)
+#   make cluster  the same on PostgreSQL, Kafka, two nodes and haproxy, on http://127.0.0.1:8000
 #   make test   every test (unit and integration, with real servers on loopback, then the web app's)
 #   make bench  the benchmarks in bench/ (API, live data, processors, gateway, web app chart), results in docs/benchmarks.md
 #   make lint   ruff, mypy and the import contracts (lint-imports, [tool.importlinter] in pyproject.toml)
@@ -24,7 +25,7 @@ UI_SRC   := $(wildcard ui/package.json ui/package-lock.json ui/index.html ui/vit
               ui/tsconfig*.json) $(shell find ui/src ui/public -type f 2>/dev/null)
 endif
 
-.PHONY: demo test unit integration bench lint format clean setup constraints ui-types
+.PHONY: demo cluster test unit integration bench lint format clean setup constraints ui-types
 
 setup: $(STAMP) $(UI_BUILT)
 
@@ -55,6 +56,13 @@ $(UI_BUILT): $(UI_SRC)
 
 demo: $(STAMP) $(UI_BUILT)
 	$(BIN)/twinlink demo --host $(HOST) --port $(PORT)
+
+# PostgreSQL, Kafka, two nodes and haproxy on this machine (docs/scale-out.md, "A local
+# cluster"); data, logs and secrets in ./.twinlink-cluster, kept across starts.
+cluster: $(STAMP) $(UI_BUILT)
+	@scripts/ensure-packages.sh postgresql haproxy openjdk-17-jre-headless maven
+	@scripts/ensure-kafka.sh >/dev/null
+	$(BIN)/twinlink cluster up --port $(PORT)
 
 test: $(STAMP) $(UI_BUILT)
 	@# chromium: the web app's end-to-end test drives it; mosquitto: the MQTT tests' broker
