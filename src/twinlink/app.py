@@ -152,6 +152,7 @@ def build_services(settings: Settings) -> Services:
             settings.blueprints_dir,
             settings.max_processors,
             stores.claims("processor"),
+            history,  # a processor starting on a shared store catches up from it
         ),
         fmus=FmuService(
             store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders

@@ -2,12 +2,14 @@
 the lease store's semantics on PostgreSQL (the database's clock, two holders racing for one
 lease), and two `twinlink up` nodes on one database and one broker: a processor runs on one
 of them, its output has each input batch once, and when that node is killed (kill -9) the
-other takes the processor over and the output goes on; a connector likewise."""
+other takes the processor over and the output goes on, with the output of every batch
+acknowledged while it ran nowhere (replayed from history) once; a connector likewise."""
 
 from __future__ import annotations
 
 import asyncio
 import socket
+from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -165,6 +167,76 @@ def test_a_processor_runs_on_one_node_and_moves_when_it_dies(
             send(other, device, 4)
             got = samples_until(ws, lambda s: times_of(4) <= {x["time"] for x in s})
         assert sorted(x["time"] for x in got) == sorted(times_of(4))  # the output goes on
+    finally:
+        for node in (a, b):
+            if node is not None:
+                stop_server(node)
+
+
+def outputs(server: Server, slug: str, stream: str) -> Counter[int]:
+    """How many times each output time is stored (outputs are stored by time, never merged)."""
+    with server.admin as admin:
+        r = admin.get(f"/api/v1/twins/{slug}/streams/{stream}/samples", params={"limit": 100_000})
+    if r.status_code == 404:  # no output stored yet
+        return Counter()
+    assert r.status_code == 200, r.text
+    assert r.json()["next_cursor"] is None
+    return Counter(row["time"] for row in r.json()["rows"])
+
+
+def test_a_processor_taken_over_from_a_killed_node_skips_nothing_and_repeats_nothing(
+    shared: Cluster, tmp_path: Path
+) -> None:
+    a = start_node(shared, tmp_path / "node-a")
+    b: Server | None = None
+    try:
+        b = start_node(shared, tmp_path / "node-b", a.admin_token)
+        slug, [device] = device_twin(a)
+        with a.admin as admin:
+            r = admin.post(f"/api/v1/twins/{slug}/processors", json={
+                "name": "double", "blueprint": "expression", "output": "doubled",
+                "params": {"outputs": {"y": "x * 2"}}})  # fmt: skip
+        assert r.status_code == 201, r.text
+        path = f"/api/v1/twins/{slug}/processors/double"
+        first = runner((a, b), path, lambda v: v["state"] == "running")
+        other = b if first is a else a
+        sent = [1, 2, 3]
+        for seq in sent:
+            send(other, device, seq)
+        done = set().union(*(times_of(s) for s in sent))
+        poll_until(lambda: done <= set(outputs(other, slug, "doubled")), "outputs of 1-3", 30)
+        # ... and its position saved with a renewal: outputs made after it would be made again
+        position = "SELECT t FROM lease_positions WHERE name LIKE 'processor:%'"
+        poll_until(lambda: (shared.fetchval(position) or 0) >= max(done), "position saved", 30)
+
+        first.process.kill()  # kill -9: its lease is left to expire, and nobody runs it
+        first.process.wait()
+        for seq in (4, 5):  # acknowledged before the lease expired: replayed from history
+            send(other, device, seq)
+            sent.append(seq)
+        while view(other, path)["state"] != "running":  # and while the node takes it over
+            assert len(sent) < 2000, "never taken over"
+            sent.append(sent[-1] + 1)
+            send(other, device, sent[-1])
+        for _ in range(2):  # and live once it runs
+            sent.append(sent[-1] + 1)
+            send(other, device, sent[-1])
+
+        expected = set().union(*(times_of(s) for s in sent))
+
+        # The outputs of a node are stored in the order made, the last batch's last of all.
+        def all_out() -> Counter[int] | None:
+            got = outputs(other, slug, "doubled")
+            return got if expected <= set(got) else None
+
+        got = poll_until(all_out, "the output of every input batch", TAKEOVER_S)
+        assert set(got) == expected  # nothing skipped
+        assert [t for t, n in got.items() if n > 1] == []  # nothing made twice
+        with other.admin as admin:
+            r = admin.get(f"{path}/events", params={"kind": "caught_up"})
+        assert r.status_code == 200, r.text
+        [caught_up] = r.json()["events"]
+        assert caught_up["data"]["replayed"] >= 20 and caught_up["data"]["skipped"] == 0
     finally:
         for node in (a, b):
             if node is not None:

@@ -3,6 +3,8 @@
 Each enabled processor has a Supervisor (its worker process) and a bus subscription to its
 source stream; its output goes back through ingest (bus at once, history at the next group
 commit), so it can be charted live, read from history and fed to the next processor.
+On a store shared by several nodes, a processor starting on a node first catches up from
+history on what it has not processed (catchup.py), from the position its last node saved.
 """
 
 from __future__ import annotations
@@ -30,13 +32,15 @@ from twinlink.domain.samples import SampleBatch
 from twinlink.ingest.service import IngestService
 from twinlink.processors.blueprint import Batch
 from twinlink.processors.catalog import Entry, discover
+from twinlink.processors.catchup import CatchUp
 from twinlink.processors.checks import check_chain, checked_spec, spec_of
 from twinlink.processors.convert import to_columns, to_samples
 from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
-from twinlink.store.leases import Claims
+from twinlink.store.history import HistoryReadStore
+from twinlink.store.leases import Claims, Position
 
 log = logging.getLogger("twinlink.processors")
 NOTABLE = {"crashed", "failed", "memory_limit", "hung"}
@@ -47,7 +51,18 @@ class Hosted:
     record: ProcessorRecord
     supervisor: Supervisor
     unsubscribe: Any = None
+    catch_up: CatchUp | None = None  # on a shared store: its catch-up, then its position
+    catching_up: asyncio.Task[None] | None = None
+    saved: Position | None = None  # the position last saved
     _wanted: tuple[object, object, list[str] | None] = (None, None, None)
+
+    def position(self) -> Position | None:
+        """How far it got in its source stream (None: not known yet)."""
+        start = self.catch_up.start if self.catch_up is not None else None
+        done = self.supervisor.processed_t
+        if start is None or done is None or done <= start.t:
+            return start
+        return Position(start.stream, done)
 
     def wanted(self) -> list[str] | None:
         """The source signals the running blueprint reads (None: all, until it has said);
@@ -70,6 +85,7 @@ class ProcessorService:
         blueprints_dir: Path | None,
         max_running: int = 64,
         claims: Claims | None = None,
+        history: HistoryReadStore | None = None,
     ) -> None:
         self.store = store
         self.registry = registry
@@ -85,6 +101,7 @@ class ProcessorService:
         # On a store shared by several nodes: the leases of the processors this node runs
         # (None: the only node, which runs every enabled processor).
         self.claims = claims
+        self.history = history  # where a processor catches up from (with `claims` only)
         self._keeper: asyncio.Task[None] | None = None
         registry.deleted_listeners.append(self._twins_deleted)
 
@@ -104,10 +121,12 @@ class ProcessorService:
         if self._keeper is not None:
             self._keeper.cancel()
             await asyncio.gather(self._keeper, return_exceptions=True)
+        stopped = list(self.hosted.values())
         await asyncio.gather(*(self._unhost(pid) for pid in list(self.hosted)))
         if self._background:
             await asyncio.gather(*self._background, return_exceptions=True)
         if self.claims is not None:  # stopped: the other nodes may take them over at once
+            await self._save_positions(stopped)  # and go on from where these stopped
             try:
                 await self.claims.release_all()
             except StorageError as err:
@@ -193,6 +212,7 @@ class ProcessorService:
         record = await self._find(principal, slug, name, "editor")
         await self._unhost(record.id)
         await self.store.delete_processor(record.id)
+        await self._forget_position(record.id)
 
     async def events(
         self, principal: Principal, slug: str, name: str, limit: int, before: int | None,
@@ -267,12 +287,33 @@ class ProcessorService:
         held = await self.claims.hold(keep + more[: max(0, self.max_running - len(keep))])
         for pid in [pid for pid in self.hosted if pid not in held]:
             await self._unhost(pid)
+            if pid not in enabled:  # disabled or deleted, not taken over: start anew later
+                await self._forget_position(pid)
         for pid in sorted(held):
             record, hosted = enabled[pid], self.hosted.get(pid)
             if hosted is None:
                 self._host(record)
             elif hosted.record.modified_ns != record.modified_ns:  # changed on another node
                 await self._apply(record, spec_of(hosted.record), spec_of(record))
+        await self._save_positions(list(self.hosted.values()))
+
+    async def _save_positions(self, hosted: list[Hosted]) -> None:
+        """How far the processors got, for the node that runs them next (those that moved)."""
+        assert self.claims is not None
+        moved = {h.record.id: (h, p) for h in hosted if (p := h.position()) not in (None, h.saved)}
+        positions = {pid: p for pid, (_, p) in moved.items() if p is not None}
+        if await self.claims.save_positions(positions):
+            for h, p in moved.values():
+                h.saved = p
+
+    async def _forget_position(self, processor_id: int) -> None:
+        """Stopped on purpose: when it runs again it starts from then, not from here."""
+        if self.claims is None:
+            return
+        try:
+            await self.claims.forget_position(processor_id)
+        except StorageError as err:
+            log.warning("processor %d: its position not forgotten: %s", processor_id, err)
 
     # -- hosting ----------------------------------------------------------------------------
 
@@ -287,11 +328,22 @@ class ProcessorService:
         )
         hosted = Hosted(record, supervisor)
 
+        def feed(batch: SampleBatch) -> None:
+            supervisor.feed(to_columns(batch, hosted.wanted()), time.perf_counter())
+
         def on_batch(subject: str, batch: object) -> None:
             if isinstance(batch, SampleBatch):
-                supervisor.feed(to_columns(batch, hosted.wanted()), time.perf_counter())
+                if hosted.catch_up is not None and not (batch := hosted.catch_up.take(batch)):
+                    return  # held back until the catch-up is done, or replayed already
+                feed(batch)
 
         source = spec_of(record).source  # a new source hosts the processor anew
+        if self.claims is not None and self.history is not None and entry is not None:
+            hosted.catch_up = CatchUp(
+                record.id, record.twin_id, source, self.claims, self.history, feed,
+                lambda b: supervisor.feed_in_turn(to_columns(b, hosted.wanted())),
+                supervisor.on_events,
+            )  # fmt: skip
         hosted.unsubscribe = self.bus.subscribe(samples_subject(record.twin_id, source), on_batch)
         self.hosted[record.id] = hosted
         if entry is None:
@@ -300,17 +352,24 @@ class ProcessorService:
             self._record_events(record, [("failed", why, time.time_ns(), {})])
             return
         supervisor.start()
+        if hosted.catch_up is not None:  # subscribed first: nothing published from now is missed
+            hosted.catching_up = asyncio.create_task(hosted.catch_up.run())
 
     async def _unhost(self, processor_id: int) -> None:
         hosted = self.hosted.pop(processor_id, None)
         if hosted is not None:
             hosted.unsubscribe()
+            if hosted.catching_up is not None:
+                hosted.catching_up.cancel()
+                await asyncio.gather(hosted.catching_up, return_exceptions=True)
             await hosted.supervisor.stop()
 
     async def _apply(self, record: ProcessorRecord, old: ProcessorSpec, new: ProcessorSpec) -> bool:
         hosted = self.hosted.get(record.id)
         if hosted is None or not new.enabled or new.source != old.source:
             await self._unhost(record.id)
+            if not new.enabled:
+                await self._forget_position(record.id)
             if new.enabled and await self._may_run(record.id):
                 self._host(record)
             return False

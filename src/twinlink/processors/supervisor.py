@@ -6,6 +6,8 @@ a minute; each death is reported as an event with its cause and the last lines o
 Inputs that arrive while a worker is busy are sent as one batch when it is free (at most
 MAX_INFLIGHT batches are in the worker at once), so a burst costs one round trip, not many;
 inputs beyond `max_pending` samples, or while no worker runs, are dropped and counted.
+`processed_t` is how far the worker got: the newest input time of the batches it answered
+(a processor's position, saved on a shared store so another node can go on from there).
 """
 
 from __future__ import annotations
@@ -104,7 +106,10 @@ class Supervisor:
         self.restart_at: float | None = None
         self._pending: deque[tuple[Batch, float]] = deque()
         self._pending_samples = 0
-        self._inflight: deque[tuple[int, float, float]] = deque()
+        # (id, arrived, sent, newest input time) of each batch the worker has not answered
+        self._inflight: deque[tuple[int, float, float, int | None]] = deque()
+        self.processed_t: int | None = None
+        self._room = asyncio.Event()  # set when queued input was taken or dropped
         self._next_id = 0
         self._wake = asyncio.Event()
         self._stop = asyncio.Event()
@@ -138,6 +143,19 @@ class Supervisor:
             self.stats.dropped += len(old)
         self._wake.set()
 
+    async def feed_in_turn(self, batch: Batch) -> None:
+        """Queue `batch` once there is room for it (input replayed from history, which must
+        not push out what is queued as `feed` would); dropped as by `feed` when no worker
+        runs."""
+        while (
+            self._pending
+            and self._pending_samples + len(batch) > self.config.max_pending
+            and self.state in ("running", "starting")
+        ):
+            self._room.clear()
+            await self._room.wait()
+        self.feed(batch, time.perf_counter())
+
     async def reconfigure(self, config: WorkerConfig, params_only: bool) -> bool:
         """Use `config` from now on. True when the running worker kept its state."""
         self.config = config
@@ -162,6 +180,7 @@ class Supervisor:
         """Stop gracefully (the blueprint's `stop` runs), then by force."""
         self._stop.set()
         self._wake.set()
+        self._room.set()
         if self.state == "running":
             self.state = "stopping"
         await self._ask_to_stop()
@@ -270,9 +289,11 @@ class Supervisor:
                 arrived = self._pending[0][1]
                 self._pending.clear()
                 self._pending_samples = 0
+                self._room.set()
                 batch = Batch.concat(batches)
                 self._next_id += 1
-                self._inflight.append((self._next_id, arrived, time.monotonic()))
+                newest = int(batch.times.max()) if len(batch) else None
+                self._inflight.append((self._next_id, arrived, time.monotonic(), newest))
                 writer.write(frame({"t": "data", "id": self._next_id, **pack_batch(batch)}))
                 self.stats.samples_in += len(batch)
                 self.stats.batches += 1
@@ -294,7 +315,7 @@ class Supervisor:
                     self._failure = f"{message['where']} failed: {message['error']}"
 
     async def _took_output(self, message: dict[str, Any]) -> None:
-        _, arrived, _ = self._inflight.popleft()
+        _, arrived, _, newest = self._inflight.popleft()
         self._wake.set()
         self.stats.timed(message["timings"])
         if message["events"]:
@@ -305,6 +326,8 @@ class Supervisor:
             out = unpack_batch(message)
             self.stats.samples_out += len(out)
             await self.on_output(out)
+        if newest is not None and (self.processed_t is None or newest > self.processed_t):
+            self.processed_t = newest  # answered, and its output handed on
         self.stats.latency_s.add(time.perf_counter() - arrived)
 
     async def _watch(self, proc: asyncio.subprocess.Process) -> None:
@@ -356,6 +379,7 @@ class Supervisor:
         self._pending.clear()
         self._pending_samples = 0
         self._inflight.clear()
+        self._room.set()
 
     def _cause(self, code: int | None) -> tuple[str, str, dict[str, Any]] | None:
         if self._restart_requested or self._stop.is_set():

@@ -6,6 +6,12 @@ what it holds; it releases them when it stops cleanly. When it dies, its leases 
 another node's next round takes the items over. Expiry is the store's clock (PostgreSQL's
 `now()`), never a node's, so nodes whose clocks disagree still agree on who holds what.
 
+A lease also keeps its item's *position* in its input (the input stream and the newest
+sample time processed), saved by the holder with its renewals: the node that takes the item
+over from a dead one starts from there (processors/catchup.py). Only the holder of a live
+lease can save it, and a position never moves back, so a node that lost its lease cannot
+overwrite its successor's.
+
 `LocalLeases` is the embedded backend's: one node, the same semantics, in memory. `Claims`
 is what a service keeps: the leases of one kind of item, by id.
 """
@@ -18,7 +24,7 @@ import secrets
 import socket
 import time
 from collections.abc import Iterable
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 from twinlink.domain.errors import StorageError
 
@@ -36,6 +42,14 @@ def new_holder() -> str:
     return f"{socket.gethostname()}:{os.getpid()}:{secrets.token_hex(4)}"
 
 
+class Position(NamedTuple):
+    """How far an item got in its input: every sample of `stream` up to time `t` (ns) that
+    reached it has been processed."""
+
+    stream: str
+    t: int
+
+
 class LeaseStore(Protocol):
     async def acquire(self, names: list[str], holder: str, ttl_s: float) -> set[str]:
         """Take each lease that is free or expired, renew each `holder` holds; the names
@@ -50,6 +64,19 @@ class LeaseStore(Protocol):
         """The names `holder` holds and that have not expired."""
         ...
 
+    async def save_positions(self, positions: dict[str, Position], holder: str) -> None:
+        """Keep each name's position, for the names `holder` holds now (others are left as
+        they are); a position in the same stream never moves back."""
+        ...
+
+    async def positions(self, names: list[str]) -> dict[str, Position]:
+        """The kept positions of `names` (those that have one)."""
+        ...
+
+    async def forget_positions(self, names: list[str]) -> None:
+        """Forget the positions of `names` (their items were stopped on purpose)."""
+        ...
+
 
 class LocalLeases:
     """Leases of one node (the embedded backend): the same semantics as the shared store's,
@@ -57,6 +84,7 @@ class LocalLeases:
 
     def __init__(self) -> None:
         self._leases: dict[str, tuple[str, float]] = {}  # name -> (holder, expires)
+        self._positions: dict[str, Position] = {}
 
     async def acquire(self, names: list[str], holder: str, ttl_s: float) -> set[str]:
         now = time.monotonic()
@@ -76,6 +104,26 @@ class LocalLeases:
     async def held(self, holder: str) -> set[str]:
         now = time.monotonic()
         return {n for n, (h, expires) in self._leases.items() if h == holder and expires > now}
+
+    async def save_positions(self, positions: dict[str, Position], holder: str) -> None:
+        held = await self.held(holder)
+        for name, position in positions.items():
+            if name in held:
+                self._positions[name] = _later(self._positions.get(name), position)
+
+    async def positions(self, names: list[str]) -> dict[str, Position]:
+        return {n: self._positions[n] for n in names if n in self._positions}
+
+    async def forget_positions(self, names: list[str]) -> None:
+        for name in names:
+            self._positions.pop(name, None)
+
+
+def _later(kept: Position | None, new: Position) -> Position:
+    """The position to keep: the new one, unless the kept one is further in the same stream."""
+    if kept is not None and kept.stream == new.stream and kept.t > new.t:
+        return kept
+    return new
 
 
 class Claims:
@@ -130,6 +178,28 @@ class Claims:
         if got:
             self.held.add(item_id)
         return bool(got)
+
+    async def save_positions(self, positions: dict[int, Position]) -> bool:
+        """Keep the positions of items this node holds; False (logged) when the store cannot
+        be reached: they are saved with a later round."""
+        if not positions:
+            return True
+        named = {self._name(i): p for i, p in positions.items()}
+        try:
+            await self.store.save_positions(named, self.holder)
+        except StorageError as err:
+            log.warning("%s positions not saved (tried again next round): %s", self.kind, err,
+                        extra={"event": "positions_not_saved"})  # fmt: skip
+            return False
+        return True
+
+    async def position(self, item_id: int) -> Position | None:
+        """Where the item got in its input when it last ran (on any node)."""
+        name = self._name(item_id)
+        return (await self.store.positions([name])).get(name)
+
+    async def forget_position(self, item_id: int) -> None:
+        await self.store.forget_positions([self._name(item_id)])
 
     async def release_all(self) -> None:
         """Give up every lease held (a clean stop): the other nodes take them over at once."""
