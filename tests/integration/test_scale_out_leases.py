@@ -28,7 +28,7 @@ from tests.integration._processors import BLUEPRINTS, T0, samples_until, watchin
 from tests.integration._processors import post as post_rows
 from tests.integration._scale_out import Cluster, cluster
 from tests.integration._util import apply, assert_problem, poll_until, twin_doc, unique
-from tests.unit.test_leases import check_semantics
+from tests.unit.test_leases import check_positions, check_semantics
 from twinlink.store.leases import RENEW_S, TTL_S, new_holder
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.leases import PostgresLeases
@@ -47,6 +47,7 @@ async def test_the_lease_store_keeps_the_semantics_on_postgres(postgres_dsn: str
     await db.open()
     try:
         await check_semantics(PostgresLeases(db))
+        await check_positions(PostgresLeases(db))
     finally:
         await db.close()
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from twinlink.domain.errors import StorageError
-from twinlink.store.leases import Claims, LeaseStore, LocalLeases, new_holder
+from twinlink.store.leases import Claims, LeaseStore, LocalLeases, Position, new_holder
 
 
 async def check_semantics(store: LeaseStore) -> None:
@@ -31,8 +31,33 @@ async def check_semantics(store: LeaseStore) -> None:
     assert await store.acquire(["x:9"], a, 30) == set()
 
 
+async def check_positions(store: LeaseStore) -> None:
+    """Positions: saved only by the lease's holder, never moved back in one stream (shared
+    with the PostgreSQL tests)."""
+    a, b = new_holder(), new_holder()
+    assert await store.acquire(["p:1", "p:2"], a, 30) == {"p:1", "p:2"}
+    await store.save_positions({"p:1": Position("in", 100), "p:2": Position("in", 5)}, a)
+    await store.save_positions({"p:1": Position("in", 999)}, b)  # not b's: left alone
+    assert await store.positions(["p:1", "p:2", "p:3"]) == {
+        "p:1": Position("in", 100),
+        "p:2": Position("in", 5),
+    }
+    await store.save_positions({"p:1": Position("in", 50)}, a)  # behind: kept where it was
+    await store.save_positions({"p:2": Position("other", 1)}, a)  # another stream: from there
+    assert await store.positions(["p:1", "p:2"]) == {
+        "p:1": Position("in", 100),
+        "p:2": Position("other", 1),
+    }
+    await store.acquire(["p:1"], a, 0.0)  # expired: a may no longer save it
+    await store.save_positions({"p:1": Position("in", 200)}, a)
+    assert await store.positions(["p:1"]) == {"p:1": Position("in", 100)}
+    await store.forget_positions(["p:1", "p:9"])
+    assert await store.positions(["p:1", "p:2"]) == {"p:2": Position("other", 1)}
+
+
 async def test_local_leases_keep_the_semantics() -> None:
     await check_semantics(LocalLeases())
+    await check_positions(LocalLeases())
 
 
 class Flaky(LocalLeases):
