@@ -23,6 +23,13 @@ def cluster() -> None:
     help="The load balancer's port on 127.0.0.1; 0 for any free one (the URL is printed).",
 )
 @click.option(
+    "--mqtt-port",
+    type=click.IntRange(0, 65535),
+    default=1883,
+    show_default=True,
+    help="Its MQTT port on 127.0.0.1 (to a ready node); any free one when 0 or taken.",
+)
+@click.option(
     "--nodes", type=click.IntRange(1, 8), default=2, show_default=True, help="twinlink nodes."
 )
 @click.option(
@@ -40,14 +47,16 @@ def cluster() -> None:
     show_default=True,
     help="Folder of the demo's DT documents.",
 )
-def up(port: int, nodes: int, data_dir: Path, no_demo: bool, examples: Path) -> None:
+def up(
+    port: int, mqtt_port: int, nodes: int, data_dir: Path, no_demo: bool, examples: Path
+) -> None:
     """Start PostgreSQL, Kafka, the nodes and haproxy in front of them, with the demo twins;
     Ctrl-C stops them all (twice: kills them). Data and logs stay in --data-dir.
 
     Needs Debian's postgresql and haproxy, Java 17 and Maven (make cluster installs them)."""
     from twinlink.devcluster.cluster import ClusterError, ClusterOptions, run
 
-    options = ClusterOptions(data_dir, port, nodes, demo=not no_demo, examples=examples)
+    options = ClusterOptions(data_dir, port, mqtt_port, nodes, demo=not no_demo, examples=examples)
     try:
         run(options, lambda line: click.echo(line, err=True))
     except ClusterError as err:

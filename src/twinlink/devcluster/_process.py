@@ -35,6 +35,16 @@ def free_ports(n: int) -> list[int]:
         return [int(s.getsockname()[1]) for s in sockets]
 
 
+def port_free(port: int) -> bool:
+    """Whether a server could bind 127.0.0.1:`port` now."""
+    with socket.socket() as s:
+        try:
+            s.bind(("127.0.0.1", port))
+        except OSError:
+            return False
+        return True
+
+
 def listening(host: str, port: int) -> bool:
     """Whether something accepts TCP connections on host:port."""
     try:

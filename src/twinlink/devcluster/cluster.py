@@ -29,7 +29,7 @@ from pathlib import Path
 import httpx
 
 from twinlink.devcluster import demo
-from twinlink.devcluster._process import free_ports
+from twinlink.devcluster._process import free_ports, port_free
 from twinlink.devcluster.credentials import ADMIN, ClusterSecrets, load_or_create
 from twinlink.devcluster.demo import DemoError
 from twinlink.devcluster.haproxy import HAProxy, HAProxyError, start_haproxy
@@ -50,6 +50,7 @@ class ClusterError(RuntimeError):
 class ClusterOptions:
     data_dir: Path = Path(".twinlink-cluster")
     port: int = 8000  # the load balancer's, on 127.0.0.1; 0 for any free one
+    mqtt_port: int = 1883  # its MQTT front end's; any free one when 0 or taken
     nodes: int = 2
     demo: bool = True
     examples: Path = Path("examples")  # the demo's DT documents
@@ -133,14 +134,19 @@ class LocalCluster:
         count = self.options.nodes
         ports = free_ports(2 * count)  # HTTP and MQTT of each node
         backends = [("127.0.0.1", port) for port in ports[:count]]
+        mqtt_port = self.options.mqtt_port
+        if mqtt_port and not port_free(mqtt_port):
+            self.say(f"MQTT: 127.0.0.1:{mqtt_port} is taken, the cluster takes any free port")
+            mqtt_port = 0
         self.say(f"haproxy: starting on 127.0.0.1:{self.options.port or '(any free port)'}")
         self.haproxy = start_haproxy(
-            self.folder / "haproxy", self.options.port, backends, self.options.health_path
-        )
+            self.folder / "haproxy", self.options.port, backends, self.options.health_path,
+            mqtt_backends=[("127.0.0.1", port) for port in ports[count:]], mqtt_port=mqtt_port,
+        )  # fmt: skip
         env = self._node_env(self.haproxy.url)
         for i in range(count):
             name = f"node{i + 1}"
-            self.say(f"{name}: starting on 127.0.0.1:{ports[i]}, MQTT on {ports[count + i]}")
+            self.say(f"{name}: starting on 127.0.0.1:{ports[i]} (MQTT {ports[count + i]})")
             mqtt = {"TWINLINK_MQTT_PORT": str(ports[count + i])}
             self.nodes.append(launch_node(name, self.folder / name, ports[i], {**env, **mqtt}))
             if i == 0:
@@ -153,8 +159,11 @@ class LocalCluster:
         assert self.haproxy is not None
         deadline = time.monotonic() + BALANCED_S
         while True:
-            states = self.haproxy.server_states()
-            if all(states.get(node.name) == "UP" for node in self.nodes):
+            states = self.haproxy.server_states() | {
+                f"{name} (MQTT)": state
+                for name, state in self.haproxy.server_states("mqtt").items()
+            }
+            if all(state == "UP" for state in states.values()):
                 return
             if time.monotonic() > deadline:
                 raise ClusterError(
@@ -185,6 +194,8 @@ class LocalCluster:
             ]
         lines += [
             f"  nodes: {', '.join(f'{n.name} {n.url}' for n in self.nodes)}",
+            f"  MQTT for devices: 127.0.0.1:{self.haproxy.mqtt_port if self.haproxy else '?'} "
+            "(any node; topics twinlink/{twin}/{device}/..., docs/mqtt.md)",
             f"  PostgreSQL 127.0.0.1:{self.postgres.port if self.postgres else '?'}, "
             f"Kafka {self.kafka.bootstrap if self.kafka else '?'}",
             f"  demo twins: {', '.join(self.twins) or 'none (--no-demo)'}",

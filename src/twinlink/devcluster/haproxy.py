@@ -3,7 +3,8 @@ scale-out fault tests and benchmark.
 
 HTTP mode, so WebSocket upgrades pass and each request may go to another node; the nodes'
 health check (`GET /readyz` by default, 200 when the node's store and bus answer) takes a
-node out after two failed checks and back after two good ones. A request whose connection to
+node out after two failed checks (closing its open connections, so its devices reconnect to
+another node) and back after two good ones. A request whose connection to
 a node failed is sent to another (nothing reached the node); other failures are retried on
 another node only for requests that may be repeated (GET, HEAD, OPTIONS): a POST of telemetry
 that a node may have stored is never sent twice by the load balancer, the device's own retry
@@ -44,6 +45,7 @@ class HAProxy:
     directory: Path  # its config and log
     process: subprocess.Popen[bytes]
     stats_socket: Path | None = None  # haproxy's admin socket (server_states)
+    mqtt_port: int | None = None  # the MQTT front end's port, when it has one
 
     @property
     def url(self) -> str:
@@ -55,9 +57,10 @@ class HAProxy:
         except OSError:
             return ""
 
-    def server_states(self) -> dict[str, str]:
+    def server_states(self, proxy: str = "nodes") -> dict[str, str]:
         """Each node's state as haproxy sees it ("UP", "DOWN", "UP 1/2", "MAINT", ...), by
-        server name (node1, node2, ...), from its stats socket."""
+        server name (node1, node2, ...), from its stats socket: the HTTP back end's, or
+        `proxy="mqtt"`'s."""
         with socket.socket(socket.AF_UNIX) as conn:
             conn.settimeout(5)
             conn.connect(str(self.stats_socket or self.directory / STATS_SOCKET))
@@ -67,8 +70,10 @@ class HAProxy:
         header = next(rows, [])
         if "svname" not in header or "status" not in header:
             raise HAProxyError(f"haproxy's stats socket answered {answer[:200]!r}")
-        name, status = header.index("svname"), header.index("status")
-        return {row[name]: row[status] for row in rows if len(row) > status}
+        proxies, name, status = (header.index(k) for k in ("pxname", "svname", "status"))
+        return {
+            row[name]: row[status] for row in rows if len(row) > status and row[proxies] == proxy
+        }
 
     def stop(self) -> None:
         """SIGTERM: haproxy closes every connection at once (SIGUSR1 would wait for open
@@ -94,21 +99,32 @@ def start_haproxy(
     backends: list[tuple[str, int]],
     health_path: str = "/readyz",
     check_interval_ms: int = 500,
+    *,
+    mqtt_backends: list[tuple[str, int]] | None = None,
+    mqtt_port: int = 0,
 ) -> HAProxy:
     """Start haproxy on 127.0.0.1:`port` (0: a free port, see `HAProxy.port`) in front of
     `backends` (host, port); returns once it accepts connections. The nodes need not be up
-    yet: until their health checks pass haproxy answers 503."""
+    yet: until their health checks pass haproxy answers 503.
+
+    With `mqtt_backends` (each node's MQTT listener, in the order of `backends`), MQTT
+    connections to 127.0.0.1:`mqtt_port` (0: a free port, `HAProxy.mqtt_port`) go to a ready
+    node too, in TCP mode: a device's session stays on one node until it reconnects."""
     if not backends:
         raise ValueError("haproxy needs at least one backend")
+    if mqtt_backends is not None and len(mqtt_backends) != len(backends):
+        raise ValueError("mqtt_backends must name one MQTT listener per backend")
     directory.mkdir(parents=True, exist_ok=True)
     binary = haproxy_bin()
     stats_socket = _stats_socket_path(directory)
     for _attempt in range(3):
-        chosen = port or free_ports(1)[0]
+        free = free_ports(2)
+        chosen, chosen_mqtt = port or free[0], mqtt_port or free[1]
         config = directory / "haproxy.cfg"
-        config.write_text(
-            haproxy_config(chosen, backends, health_path, check_interval_ms, stats_socket)
-        )
+        text = haproxy_config(chosen, backends, health_path, check_interval_ms, stats_socket)
+        if mqtt_backends is not None:
+            text += mqtt_config(chosen_mqtt, backends, mqtt_backends, health_path)
+        config.write_text(text)
         with (directory / "haproxy.log").open("wb") as log:
             process = subprocess.Popen(
                 [binary, "-db", "-f", config],
@@ -119,11 +135,13 @@ def start_haproxy(
                 process_group=0,  # a Ctrl-C in the terminal reaches the launcher alone
             )
         proxy = HAProxy(chosen, directory, process, stats_socket)
+        if mqtt_backends is not None:
+            proxy.mqtt_port = chosen_mqtt
         if _wait_listening(proxy):
             return proxy
         proxy.stop()
         # a port picked free was taken before haproxy bound it: pick another
-        if port == 0 and "cannot bind socket" in proxy.log():
+        if (port == 0 or mqtt_port == 0) and "cannot bind socket" in proxy.log():
             continue
         break
     raise HAProxyError(f"haproxy did not start on port {chosen}:\n{proxy.log()}")
@@ -188,7 +206,9 @@ backend nodes
     option httpchk
     http-check send meth GET uri {health_path} ver HTTP/1.1 hdr Host localhost
     http-check expect status 200
-    default-server inter {check_interval_ms} fall 2 rise 2
+    # A node taken out also loses its open connections: a device WebSocket on a node cut off
+    # from its database would otherwise stay there, its batches refused until it is back.
+    default-server inter {check_interval_ms} fall 2 rise 2 on-marked-down shutdown-sessions
     # a failed connection sent nothing: try another node. An empty answer may come from a
     # node that died after storing the request, so only requests that may be repeated are
     # retried after one (a device resends its own batches with the same seq).
@@ -197,5 +217,34 @@ backend nodes
     retry-on conn-failure empty-response
     http-request disable-l7-retry unless METH_GET or METH_OPTIONS
     http-response set-header {NODE_HEADER} %[srv_name]
+{servers}
+"""
+
+
+def mqtt_config(
+    port: int,
+    backends: list[tuple[str, int]],
+    mqtt_backends: list[tuple[str, int]],
+    health_path: str,
+) -> str:
+    """MQTT in TCP mode, each node checked on its HTTP port: a node that is not ready gets no
+    new MQTT device either."""
+    servers = "\n".join(
+        f"    server node{i} {host}:{mqtt} check port {http}"
+        for i, ((host, mqtt), (_, http)) in enumerate(zip(mqtt_backends, backends, strict=True), 1)
+    )
+    return f"""
+listen mqtt
+    mode tcp
+    option tcplog
+    bind 127.0.0.1:{port}
+    balance leastconn
+    # a device's connection lives for hours, quiet but for its keep-alive pings
+    timeout client 1h
+    timeout server 1h
+    option httpchk
+    http-check send meth GET uri {health_path} ver HTTP/1.1 hdr Host localhost
+    http-check expect status 200
+    default-server inter 500 fall 2 rise 2
 {servers}
 """
