@@ -245,6 +245,6 @@ listen mqtt
     option httpchk
     http-check send meth GET uri {health_path} ver HTTP/1.1 hdr Host localhost
     http-check expect status 200
-    default-server inter 500 fall 2 rise 2
+    default-server inter 500 fall 2 rise 2 on-marked-down shutdown-sessions
 {servers}
 """
