@@ -20,7 +20,7 @@ import subprocess
 import sys
 import threading
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from urllib.parse import urlsplit
 
@@ -46,6 +46,8 @@ TIMEOUT_S = 60.0  # a deadline for what polls the real state; generous, the mach
 # /readyz answers within TWINLINK_READY_TIMEOUT_S (1 s) whatever the store does; a probe
 # that takes this long is one that hangs.
 PROBE_S = 10.0
+SDK_OPTIONS = {"batch_size": 10, "backoff_max": 0.5}
+W0 = BASE_NS + 1000  # the WebSocket device's times, after the HTTP device's
 
 # A TCP forwarder from a free loopback port to `host port`: prints its port, then copies
 # bytes both ways. Stopped with SIGSTOP, every connection through it goes silent, as a
@@ -125,16 +127,16 @@ def nodes(shared: Cluster, folder: Path, **env_of_a: str) -> Iterator[tuple[Serv
         stop_server(a)
 
 
-def connected_to(node: Server, slug: str) -> bool:
+def connected_to(node: Server, slug: str, device: str = "dev0") -> bool:
     """Whether `node` holds the device's session (each node answers for its own sessions)."""
     with node.admin as admin:
-        r = admin.get(f"/api/v1/twins/{slug}/devices/dev0")
+        r = admin.get(f"/api/v1/twins/{slug}/devices/{device}")
     assert r.status_code == 200, r.text
     return bool(r.json()["connected"])
 
 
-def stored_times(shared: Cluster, slug: str) -> dict[int, int]:
-    """How many values of signal `n` PostgreSQL holds at each time of the twin's telemetry."""
+def stored_times(shared: Cluster, slug: str, signal_name: str = "n") -> dict[int, int]:
+    """How many values of a signal PostgreSQL holds at each time of the twin's telemetry."""
 
     async def read() -> dict[int, int]:
         conn = await asyncpg.connect(shared.dsn)
@@ -144,9 +146,10 @@ def stored_times(shared: Cluster, slug: str) -> dict[int, int]:
                 " JOIN series se ON se.id = s.series_id"
                 " JOIN streams st ON st.id = s.stream_id"
                 " JOIN twins tw ON tw.id = st.twin_id"
-                " WHERE tw.slug = $1 AND st.name = 'telemetry' AND se.signal = 'n'"
+                " WHERE tw.slug = $1 AND st.name = 'telemetry' AND se.signal = $2"
                 " GROUP BY s.t",
                 slug,
+                signal_name,
             )
         finally:
             await conn.close()
@@ -245,36 +248,57 @@ def send(proxy: HAProxy, token: str, seq: int) -> tuple[str, dict[str, object]]:
     return r.headers[NODE_HEADER], r.json()
 
 
-def test_a_node_cut_off_from_postgres_is_not_ready_and_gets_no_batches(
+def test_a_node_cut_off_from_postgres_is_not_ready_and_devices_go_to_the_other(
     shared: Cluster, postgres_cluster: PostgresCluster, tmp_path: Path
 ) -> None:
+    """Batches over HTTP through haproxy (device dev0, signal n), and a WebSocket device
+    (the edge SDK, signal w) that was connected to A when A lost its database."""
     database = (postgres_cluster.host, postgres_cluster.port)
-    with forwarder(database) as (link, port):
+    with forwarder(database) as (link, port), ExitStack() as stack:
         store_url = shared.env["TWINLINK_STORE_URL"]
         through = store_url.replace(f":{postgres_cluster.port}/", f":{port}/", 1)
         assert through != store_url
-        with (
-            nodes(shared, tmp_path, TWINLINK_STORE_URL=through) as (a, b),
-            balanced(tmp_path / "haproxy", a, b) as proxy,
-        ):
-            slug, (token,) = device_twin(b)
-            answered = {send(proxy, token, seq)[0] for seq in range(1, 5)}
-            assert answered == {"node1", "node2"}  # both nodes take batches while ready
+        a, b = stack.enter_context(nodes(shared, tmp_path, TWINLINK_STORE_URL=through))
+        proxy = stack.enter_context(balanced(tmp_path / "haproxy", a, b))
+        stack.callback(link.send_signal, signal.SIGCONT)  # first thing on the way out
+        slug, (token, *sdk_tokens) = device_twin(b, devices=3)
+        answered = {send(proxy, token, seq)[0] for seq in range(1, 5)}
+        assert answered == {"node1", "node2"}  # both nodes take batches while ready
+        # Two SDK devices connected one after the other: haproxy puts one on each node.
+        sdk = []
+        for sdk_token in sdk_tokens:
+            sdk.append(stack.enter_context(Device(proxy.url, sdk_token, **SDK_OPTIONS)))
+            assert sdk[-1].wait_connected(TIMEOUT_S)
+        on_a = poll_until(
+            lambda: [i for i in (1, 2) if connected_to(a, slug, f"dev{i}")], "a device on A"
+        )
+        name, stuck = f"dev{on_a[0]}", sdk[on_a[0] - 1]
+        for i in range(10):
+            stuck.add({"w": i}, time_ns=W0 + i)
+        stuck.flush(TIMEOUT_S)
 
-            link.send_signal(signal.SIGSTOP)  # node A's database goes silent
-            body = assert_problem(readyz(a), 503)
-            assert body["detail"] == "the store does not answer within 1 s"
-            assert readyz(b).status_code == 200
-            poll_until(lambda: proxy.server_states()["node1"].startswith("DOWN"), "haproxy: A down")
-            for seq in range(5, 25):
-                node, ack = send(proxy, token, seq)
-                assert node == "node2", f"batch {seq} went to {node}"
-                assert ack["accepted"] == 1 and ack["duplicate"] is False, ack
+        link.send_signal(signal.SIGSTOP)  # node A's database goes silent
+        for i in range(10, 50):  # to A, which cannot store them
+            stuck.add({"w": i}, time_ns=W0 + i)
+        body = assert_problem(readyz(a), 503)
+        assert body["detail"] == "the store does not answer within 1 s"
+        assert readyz(b).status_code == 200
+        poll_until(lambda: proxy.server_states()["node1"].startswith("DOWN"), "haproxy: A down")
+        for seq in range(5, 25):
+            node, ack = send(proxy, token, seq)
+            assert node == "node2", f"batch {seq} went to {node}"
+            assert ack["accepted"] == 1 and ack["duplicate"] is False, ack
+        # haproxy closed the device's connection to A: it reconnects to B and resends there.
+        stuck.flush(TIMEOUT_S)
+        assert connected_to(b, slug, name) and stuck.stats()["connections"] >= 2
 
-            link.send_signal(signal.SIGCONT)  # and answers again
-            poll_until(lambda: readyz(a).status_code == 200, "A ready again", TIMEOUT_S)
-            poll_until(lambda: proxy.server_states()["node1"] == "UP", "haproxy: A up again")
-            answered = {send(proxy, token, seq)[0] for seq in range(25, 29)}
-            assert answered == {"node1", "node2"}
-            values = [row["values"]["n"] for row in history(b, slug)]
-            assert values == list(range(1, 29))
+        link.send_signal(signal.SIGCONT)  # and answers again
+        poll_until(lambda: readyz(a).status_code == 200, "A ready again", TIMEOUT_S)
+        poll_until(lambda: proxy.server_states()["node1"] == "UP", "haproxy: A up again")
+        answered = {send(proxy, token, seq)[0] for seq in range(25, 29)}
+        assert answered == {"node1", "node2"}
+        # Each batch once, the WebSocket device's that A had taken but not stored included.
+        assert stored_times(shared, slug, "w") == {W0 + i: 1 for i in range(50)}
+        assert stored_times(shared, slug, "n") == {BASE_NS + i: 1 for i in range(1, 29)}
+        rows = history(b, slug)
+        assert [r["values"]["n"] for r in rows if "n" in r["values"]] == list(range(1, 29))
