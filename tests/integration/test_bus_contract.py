@@ -236,3 +236,7 @@ async def test_stop_drops_every_subscription(bus: Bus) -> None:
     await bus.publish("samples.1.t", 1)
     await delivered(bus)
     assert seen == []
+
+
+async def test_a_started_bus_is_ready(bus: Bus) -> None:
+    assert await bus.ready()  # what /readyz asks of it

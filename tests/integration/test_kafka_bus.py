@@ -319,3 +319,15 @@ async def test_starting_a_started_bus_is_refused_and_it_keeps_working(nodes: Nod
     await nodes.a.publish("samples.1.t", "still")
     await nodes.b.caught_up()
     assert got == ["still"]
+
+
+async def test_ready_while_started_and_reading_only(kafka: KafkaBroker) -> None:
+    """What /readyz asks of the bus: a bus not started, or stopped, is not ready."""
+    bus = KafkaBus(kafka.bootstrap, topic_prefix=f"r{secrets.token_hex(4)}", partitions=1)
+    assert not await bus.ready()
+    await bus.start()
+    try:
+        assert await bus.ready()
+    finally:
+        await bus.stop()
+    assert not await bus.ready()
