@@ -161,9 +161,16 @@ async def _case(name: str, infra: Infra | None, plan: Plan, stamp: str) -> dict[
         case["error"] = f"{type(err).__name__}: {err}"
         case.update(_dead(setup))
     finally:
-        case["node_logs"] = [n.log()[-1500:] for n in setup.nodes if n.log().strip()]
+        case["node_logs"] = [_log_tail(n.log()) for n in setup.nodes if n.log().strip()]
         await asyncio.to_thread(setup.stop)
     return case
+
+
+def _log_tail(log: str, lines: int = 15) -> str:
+    """A node's last lines for the JSON, without the first admin's password and token it prints."""
+    secret = ("password", "token")
+    kept = [line for line in log.splitlines() if not any(s in line.lower() for s in secret)]
+    return "\n".join(kept[-lines:])
 
 
 def _dead(setup: Setup) -> dict[str, Any]:
