@@ -185,6 +185,27 @@ def test_a_device_publishes_over_mqtt_through_the_load_balancer(cluster: Cluster
     assert refused.returncode != 0 and b"bad user name or password" in refused.stderr.lower()
 
 
+def test_a_second_cluster_on_its_port_or_folder_is_refused_before_starting_anything(
+    cluster: ClusterRun, tmp_path: Path
+) -> None:
+    port = cluster.url.rsplit(":", 1)[1]
+    up = [sys.executable, "-m", "twinlink", "cluster", "up", "--mqtt-port", "0", "--no-demo"]
+    taken = subprocess.run(
+        [*up, "--port", port, "--data-dir", str(tmp_path / "other")],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert taken.returncode == 1, taken.stderr
+    assert f"127.0.0.1:{port} is taken" in taken.stderr
+    assert not (tmp_path / "other" / "postgres").exists()  # nothing was started
+    shared = subprocess.run(
+        [*up, "--port", "0", "--data-dir", str(cluster.folder)],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert shared.returncode == 1, shared.stderr
+    assert f"another twinlink cluster up runs on {cluster.folder}" in shared.stderr
+    assert "Traceback" not in taken.stderr + shared.stderr
+
+
 def test_a_signal_stops_every_part_and_a_second_start_finds_the_same_cluster(
     cluster: ClusterRun,
 ) -> None:

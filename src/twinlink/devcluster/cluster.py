@@ -18,6 +18,7 @@ nodes (leases and sessions handed over), Kafka, PostgreSQL.
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import os
 import signal
 import subprocess
@@ -25,6 +26,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
 
 import httpx
 
@@ -69,6 +71,7 @@ class LocalCluster:
         self.nodes: list[Node] = []
         self.simulator: demo.Simulator | None = None
         self.twins: list[str] = []
+        self._lock: IO[str] | None = None  # held while this command runs the folder's cluster
 
     @property
     def url(self) -> str:
@@ -79,6 +82,7 @@ class LocalCluster:
         """Start every part, in order; ClusterError when one does not start (what did start
         is left for `stop`)."""
         self._prepare_folder()
+        self._check_free()
         self.secrets = load_or_create(self.folder)
         self.say(f"PostgreSQL: starting ({self.folder / 'postgres'})")
         self.postgres = self._start_postgres()
@@ -87,6 +91,25 @@ class LocalCluster:
         self._start_nodes_behind_haproxy()
         if self.options.demo:
             self._start_demo()
+
+    def _check_free(self) -> None:
+        """Before anything starts: the folder is this command's alone (a second command on it
+        would start a second PostgreSQL on the same data), and the load balancer's port is
+        free (`make demo` or another cluster may hold it)."""
+        self._lock = (self.folder / "cluster.lock").open("w")
+        try:
+            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise ClusterError(
+                f"another twinlink cluster up runs on {self.folder}: stop it first, or give "
+                "this one another --data-dir"
+            ) from None
+        port = self.options.port
+        if port and not port_free(port):
+            raise ClusterError(
+                f"127.0.0.1:{port} is taken (make demo, or another cluster?): stop what holds "
+                "it, or give another --port (make cluster PORT=...), 0 for any free one"
+            )
 
     def _prepare_folder(self) -> None:
         # Others may enter it but not list it: PostgreSQL's own folder inside must be
@@ -226,6 +249,8 @@ class LocalCluster:
             if part.process.poll() is None:
                 self.say(f"{part.name}: stopping")
             part.stop()
+        if self._lock is not None:
+            self._lock.close()  # the folder is free for the next start
 
     def kill(self) -> None:
         """Kill every process at once (a second Ctrl-C). PostgreSQL gets its immediate
