@@ -157,3 +157,15 @@ async def test_a_history_that_cannot_be_read_is_an_event_and_the_processor_goes_
     assert fed.samples == [(4, 4.0)]
     [event] = fed.events
     assert event[0] == "catch_up_failed" and "cannot be reached" in event[1]
+
+
+async def test_live_batches_held_past_the_bound_drop_the_oldest(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(catchup, "MAX_REPLAY", 3)
+    up, fed = await make(History(stored(1)), None)
+    for t in (10, 20, 30):
+        assert up.take(batch((t, 0.0), (t + 1, 0.0))) is None
+    await up.run()
+    assert [t for t, _ in fed.samples] == [30, 31]  # as a worker's full queue drops them
+    assert up.dropped == 4

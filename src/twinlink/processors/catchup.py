@@ -19,8 +19,9 @@ and whichever node starts the processor next:
 
 Bounded: at most MAX_REPLAY samples (the newest; the older ones are skipped) and none older
 than MAX_AGE_NS before the stream's newest, each cut logged and recorded as a processor
-event. Samples are matched by time and values: two samples alike in both, one replayed and
-one live, count as one (harmless: alike input).
+event; at most MAX_REPLAY live samples are held meanwhile (the oldest dropped, as a worker's
+queue drops them; logged and counted in the event). Samples are matched by time and values:
+two samples alike in both, one replayed and one live, count as one (harmless: alike input).
 """
 
 from __future__ import annotations
@@ -75,7 +76,9 @@ class CatchUp:
         self.claims, self.history = claims, history
         self.feed, self.replay, self.on_events = feed, replay, on_events
         self.start: Position | None = None  # where the processor starts (saved when new)
-        self._held: list[SampleBatch] | None = []  # live batches held back (None: live)
+        self._held: deque[SampleBatch] | None = deque()  # live batches held (None: live)
+        self._held_samples = 0
+        self.dropped = 0  # held live samples dropped (over MAX_REPLAY while catching up)
         self._replayed: Counter[Key] = Counter()
         self._last_replayed: int | None = None
         self._tail_until = 0.0
@@ -84,13 +87,17 @@ class CatchUp:
         """A live batch: None when held back (or all replayed already), else what to feed."""
         if self._held is not None:
             self._held.append(batch)
+            self._held_samples += len(batch)
+            while self._held_samples > MAX_REPLAY and len(self._held) > 1:  # as Supervisor.feed
+                self._held_samples -= len(old := self._held.popleft())
+                self.dropped += len(old)
             return None
         if not self._replayed or self._last_replayed is None:
             return batch
         if time.monotonic() > self._tail_until:
             self._replayed.clear()  # the tail is over
             return batch
-        if min(batch.times) > self._last_replayed:  # cheap: nothing in it can have been
+        if not batch.times or min(batch.times) > self._last_replayed:  # cheap: none can have been
             return batch
         return self._unreplayed(batch)
 
@@ -112,7 +119,11 @@ class CatchUp:
             self._go_live()
 
     def _go_live(self) -> None:
-        held, self._held = self._held or [], None
+        held, self._held = self._held or deque(), None
+        if self.dropped:
+            log.warning("processor %d: %d live samples dropped while it caught up",
+                        self.processor_id, self.dropped,
+                        extra={"event": "processor_catch_up_dropped"})  # fmt: skip
         self._tail_until = time.monotonic() + TAIL_S
         for batch in held:
             left = self._unreplayed(batch) if self._replayed else batch
@@ -190,7 +201,8 @@ class CatchUp:
     def _report(
         self, replayed: int, skipped: int, position: int, after: int, first: int, last: int
     ) -> None:
-        data = {"replayed": replayed, "skipped": skipped, "from_ns": first, "to_ns": last}
+        data = {"replayed": replayed, "skipped": skipped, "from_ns": first, "to_ns": last,
+                "dropped": self.dropped}  # fmt: skip
         events: list[EventTuple] = []
         if skipped or after > position:
             why = f"{skipped} samples skipped" if skipped else "older samples skipped"

@@ -12,13 +12,12 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
-from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
-from twinlink.bus import Bus, samples_subject
+from twinlink.bus import Bus
 from twinlink.commands import CommandService
 from twinlink.domain.errors import (
     ConflictError,
@@ -28,49 +27,21 @@ from twinlink.domain.errors import (
     StorageError,
 )
 from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
-from twinlink.domain.samples import SampleBatch
 from twinlink.ingest.service import IngestService
 from twinlink.processors.blueprint import Batch
 from twinlink.processors.catalog import Entry, discover
-from twinlink.processors.catchup import CatchUp
 from twinlink.processors.checks import check_chain, checked_spec, spec_of
-from twinlink.processors.convert import to_columns, to_samples
+from twinlink.processors.convert import to_samples
+from twinlink.processors.hosting import Hosted, save_positions, subscribed
 from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
 from twinlink.store.history import HistoryReadStore
-from twinlink.store.leases import Claims, Position
+from twinlink.store.leases import Claims
 
 log = logging.getLogger("twinlink.processors")
 NOTABLE = {"crashed", "failed", "memory_limit", "hung"}
-
-
-@dataclass(slots=True)
-class Hosted:
-    record: ProcessorRecord
-    supervisor: Supervisor
-    unsubscribe: Any = None
-    catch_up: CatchUp | None = None  # on a shared store: its catch-up, then its position
-    catching_up: asyncio.Task[None] | None = None
-    saved: Position | None = None  # the position last saved
-    _wanted: tuple[object, object, list[str] | None] = (None, None, None)
-
-    def position(self) -> Position | None:
-        """How far it got in its source stream (None: not known yet)."""
-        start = self.catch_up.start if self.catch_up is not None else None
-        done = self.supervisor.processed_t
-        if start is None or done is None or done <= start.t:
-            return start
-        return Position(start.stream, done)
-
-    def wanted(self) -> list[str] | None:
-        """The source signals the running blueprint reads (None: all, until it has said);
-        worked out again only when the spec or the running blueprint changed."""
-        spec, info = self.record.spec, self.supervisor.info
-        if self._wanted[0] is not spec or self._wanted[1] is not info:
-            self._wanted = (spec, info, _wanted(spec_of(self.record), info))
-        return self._wanted[2]
 
 
 class ProcessorService:
@@ -126,7 +97,7 @@ class ProcessorService:
         if self._background:
             await asyncio.gather(*self._background, return_exceptions=True)
         if self.claims is not None:  # stopped: the other nodes may take them over at once
-            await self._save_positions(stopped)  # and go on from where these stopped
+            await save_positions(self.claims, stopped)  # and go on from where these stopped
             try:
                 await self.claims.release_all()
             except StorageError as err:
@@ -295,16 +266,7 @@ class ProcessorService:
                 self._host(record)
             elif hosted.record.modified_ns != record.modified_ns:  # changed on another node
                 await self._apply(record, spec_of(hosted.record), spec_of(record))
-        await self._save_positions(list(self.hosted.values()))
-
-    async def _save_positions(self, hosted: list[Hosted]) -> None:
-        """How far the processors got, for the node that runs them next (those that moved)."""
-        assert self.claims is not None
-        moved = {h.record.id: (h, p) for h in hosted if (p := h.position()) not in (None, h.saved)}
-        positions = {pid: p for pid, (_, p) in moved.items() if p is not None}
-        if await self.claims.save_positions(positions):
-            for h, p in moved.values():
-                h.saved = p
+        await save_positions(self.claims, list(self.hosted.values()))
 
     async def _forget_position(self, processor_id: int) -> None:
         """Stopped on purpose: when it runs again it starts from then, not from here."""
@@ -326,43 +288,22 @@ class ProcessorService:
             on_events=partial(self._record_events, record),
             on_commands=partial(self._send_commands, record),
         )
-        hosted = Hosted(record, supervisor)
-
-        def feed(batch: SampleBatch) -> None:
-            supervisor.feed(to_columns(batch, hosted.wanted()), time.perf_counter())
-
-        def on_batch(subject: str, batch: object) -> None:
-            if isinstance(batch, SampleBatch):
-                if hosted.catch_up is not None and not (batch := hosted.catch_up.take(batch)):
-                    return  # held back until the catch-up is done, or replayed already
-                feed(batch)
-
-        source = spec_of(record).source  # a new source hosts the processor anew
+        catch_up_from = None  # on a shared store: first what it has not processed (catchup.py)
         if self.claims is not None and self.history is not None and entry is not None:
-            hosted.catch_up = CatchUp(
-                record.id, record.twin_id, source, self.claims, self.history, feed,
-                lambda b: supervisor.feed_in_turn(to_columns(b, hosted.wanted())),
-                supervisor.on_events,
-            )  # fmt: skip
-        hosted.unsubscribe = self.bus.subscribe(samples_subject(record.twin_id, source), on_batch)
+            catch_up_from = (self.claims, self.history)
+        hosted = subscribed(record, supervisor, self.bus, catch_up_from)
         self.hosted[record.id] = hosted
         if entry is None:
             why = f"blueprint {record.blueprint!r} is not available"
             supervisor.last_error = why
             self._record_events(record, [("failed", why, time.time_ns(), {})])
             return
-        supervisor.start()
-        if hosted.catch_up is not None:  # subscribed first: nothing published from now is missed
-            hosted.catching_up = asyncio.create_task(hosted.catch_up.run())
+        hosted.start()
 
     async def _unhost(self, processor_id: int) -> None:
         hosted = self.hosted.pop(processor_id, None)
         if hosted is not None:
-            hosted.unsubscribe()
-            if hosted.catching_up is not None:
-                hosted.catching_up.cancel()
-                await asyncio.gather(hosted.catching_up, return_exceptions=True)
-            await hosted.supervisor.stop()
+            await hosted.stop()
 
     async def _apply(self, record: ProcessorRecord, old: ProcessorSpec, new: ProcessorSpec) -> bool:
         hosted = self.hosted.get(record.id)
@@ -480,12 +421,3 @@ class ProcessorService:
 
 def raise_forbidden(slug: str) -> None:
     raise ForbiddenError(f"changing processors of {slug!r} needs the editor role")
-
-
-def _wanted(spec: ProcessorSpec, info: dict[str, Any]) -> list[str] | None:
-    """The source signals a running blueprint reads (None: all, until it has said)."""
-    inputs = info.get("inputs")
-    if not inputs:
-        return None
-    maps = spec.input_maps()
-    return list(dict.fromkeys(maps[i].signal if i in maps else i for i in inputs))
