@@ -5,10 +5,12 @@ answers (api/readiness.py, api/system.py)."""
 from __future__ import annotations
 
 import asyncio
+import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 import httpx
+import pytest
 from fastapi import FastAPI
 
 from tests.unit._storage import Stores
@@ -90,6 +92,24 @@ async def test_a_store_that_stops_answering_is_not_ready_then_ready_again() -> N
         r = await c.get("/readyz")
         assert r.status_code == 200, r.text
         assert (await c.get("/healthz")).status_code == 200
+
+
+async def test_becoming_not_ready_and_ready_again_is_logged_once_each(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    store = StuckStore()
+    with caplog.at_level(logging.INFO, logger="twinlink.api"):
+        async with client(store, MemoryBus()) as c:
+            await c.get("/readyz")
+            store.release.clear()
+            for _ in range(3):
+                await c.get("/readyz")
+            store.release.set()
+            for _ in range(3):
+                await c.get("/readyz")
+    events = [(r.levelname, getattr(r, "event", None)) for r in caplog.records]
+    assert events == [("WARNING", "not_ready"), ("INFO", "ready_again")]
+    assert caplog.records[0].getMessage() == "not ready: the store does not answer within 0.2 s"
 
 
 async def test_probes_share_one_ping_in_flight() -> None:

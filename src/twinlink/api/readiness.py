@@ -89,6 +89,7 @@ class Readiness:
         self.timeout_s = timeout_s
         self._store = SingleFlight(store.ping, timeout_s)
         self._bus = SingleFlight(bus.ready, timeout_s)
+        self._was_ready = True  # a change is logged once, not at every probe
 
     async def close(self) -> None:
         await asyncio.gather(self._store.close(), self._bus.close())
@@ -104,4 +105,17 @@ class Readiness:
             failures.append(f"the store does not answer within {bound}")
         if not bus:
             failures.append(f"the bus is not connected (no answer within {bound})")
-        return Verdict(tuple(failures))
+        verdict = Verdict(tuple(failures))
+        self._log_change(verdict)
+        return verdict
+
+    def _log_change(self, verdict: Verdict) -> None:
+        if verdict.ready == self._was_ready:
+            return
+        self._was_ready = verdict.ready
+        if verdict.ready:
+            log.info("ready again", extra={"event": "ready_again"})
+        else:
+            # Why a load balancer stopped sending this node work, for whoever reads the log.
+            reason = "; ".join(verdict.failures)
+            log.warning("not ready: %s", reason, extra={"event": "not_ready", "reason": reason})
