@@ -32,7 +32,12 @@ import httpx
 
 from twinlink.devcluster import demo
 from twinlink.devcluster._process import free_ports, port_free
-from twinlink.devcluster.credentials import ADMIN, ClusterSecrets, load_or_create
+from twinlink.devcluster.credentials import (
+    ADMIN,
+    ClusterSecrets,
+    CredentialsError,
+    load_or_create,
+)
 from twinlink.devcluster.demo import DemoError
 from twinlink.devcluster.haproxy import HAProxy, HAProxyError, start_haproxy
 from twinlink.devcluster.kafka import KafkaBroker, KafkaError, kafka_libs, start_kafka
@@ -274,7 +279,8 @@ class Part:
 
 # What a part that did not start raises: each says which part and where its log is.
 START_ERRORS = (
-    ClusterError, DemoError, HAProxyError, KafkaError, NodeError, PostgresError,
+    ClusterError, CredentialsError, DemoError, HAProxyError, KafkaError, NodeError,
+    PostgresError,
     httpx.HTTPError,  # the demo's calls through the load balancer
     OSError,  # a folder or file of the cluster's that cannot be made or read
 )  # fmt: skip

@@ -16,6 +16,10 @@ ADMIN_FILE = "admin-credentials.txt"
 ADMIN = "admin"
 
 
+class CredentialsError(RuntimeError):
+    """A kept secret is missing or damaged; the message says which file and what to do."""
+
+
 @dataclass(frozen=True)
 class ClusterSecrets:
     secret_key: str  # TWINLINK_SECRET_KEY of every node: one vault, readable by each
@@ -26,6 +30,7 @@ class ClusterSecrets:
 
 
 def load_or_create(folder: Path) -> ClusterSecrets:
+    """The secrets kept in `folder`, each generated first when it is not there yet."""
     key_file, db_file, admin_file = (
         folder / "secret-key",
         folder / "database-password",
@@ -41,7 +46,7 @@ def load_or_create(folder: Path) -> ClusterSecrets:
         line.split(": ", 1) for line in admin_file.read_text().splitlines() if ": " in line
     )
     if not fields.get("password") or not fields.get("token"):
-        raise ValueError(
+        raise CredentialsError(
             f"{admin_file} lacks the admin's password or token: restore it, or remove the "
             f"cluster's folder {folder} to start a new cluster"
         )
