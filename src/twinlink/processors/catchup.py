@@ -110,9 +110,10 @@ class CatchUp:
         read history is logged and recorded; the processor then goes on live from there."""
         try:
             await self._replay_missed()
-        except TwinlinkError as err:
+        except Exception as err:  # the processor must go live whatever the replay met
             message = f"could not catch up from history, going on live: {err}"
             log.warning("processor %d %s", self.processor_id, message,
+                        exc_info=not isinstance(err, TwinlinkError),
                         extra={"event": "processor_catch_up_failed"})  # fmt: skip
             self.on_events([("catch_up_failed", message, time.time_ns(), {})])
         finally:
@@ -134,8 +135,11 @@ class CatchUp:
         keep = []
         for i, (t, values) in enumerate(zip(batch.times, batch.values, strict=True)):
             key = _key(t, values)
-            if self._replayed[key] > 0:
-                self._replayed[key] -= 1
+            left = self._replayed.get(key, 0)
+            if left > 1:
+                self._replayed[key] = left - 1
+            elif left == 1:
+                del self._replayed[key]  # all matched: the tail ends early
             else:
                 keep.append(i)
         if len(keep) == len(batch):
