@@ -227,6 +227,8 @@ class LocalCluster:
             f"  PostgreSQL 127.0.0.1:{self.postgres.port if self.postgres else '?'}, "
             f"Kafka {self.kafka.bootstrap if self.kafka else '?'}",
             f"  demo twins: {', '.join(self.twins) or 'none (--no-demo)'}",
+            f"  open {self.url}/app/ (the web app; Tingen live at /app/twins/tingen/live), "
+            f"{self.url}/docs (API)",
             f"  sign in as {ADMIN}; the password and token are in "
             f"{self.folder / 'admin-credentials.txt'}",
             f"  CLI: twinlink --url {self.url} login -u {ADMIN}",
