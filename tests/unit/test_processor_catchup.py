@@ -86,6 +86,7 @@ async def test_a_new_processor_starts_from_the_newest_stored_time_and_replays_no
     assert up.take(batch((4, 4.0))) is None  # held until the catch-up is done
     await up.run()
     assert up.start == Position("in", 3)
+    assert await up.claims.position(7) == Position("in", 3)  # saved at once
     assert fed.samples == [(4, 4.0)] and fed.replayed == [] and fed.events == []
     assert up.live and up.take(batch((5, 5.0))) is not None
 

@@ -9,7 +9,7 @@ and whichever node starts the processor next:
 
 1. subscribes to the source stream first, holding the live batches back;
 2. reads the position (none: the processor never ran, and its position becomes the newest
-   time stored now: what came before it started is not its input);
+   time stored now, saved at once: what came before it started is not its input);
 3. replays from history the source samples after the position, in time order;
 4. hands the held live batches over, leaving out the samples the replay had (a batch stored
    before the replay read it and published after the subscription is in both), then the
@@ -154,6 +154,9 @@ class CatchUp:
         position = await self.claims.position(self.processor_id)
         if position is None or position.stream != self.stream:  # never ran on this input
             self.start = Position(self.stream, extent[1] if extent else -1)
+            # Saved now, not with the next renewal: its node killed before then leaves the
+            # next one a position to replay from.
+            await self.claims.save_positions({self.processor_id: self.start})
             return
         self.start = position
         if extent is None or extent[1] <= position.t:
