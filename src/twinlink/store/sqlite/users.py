@@ -8,33 +8,8 @@ from collections.abc import Mapping
 import orjson
 
 from twinlink.domain.records import ApiToken, User
+from twinlink.store.rows import TOKEN_COLUMNS, USER_COLUMNS, token_of, user_of
 from twinlink.store.sqlite.db import Database
-
-
-def _user(row: sqlite3.Row) -> User:
-    return User(
-        id=row["id"],
-        username=row["username"],
-        is_admin=bool(row["is_admin"]),
-        groups=orjson.loads(row["groups_json"]),
-        created_ns=row["created_ns"],
-        disabled=bool(row["disabled"]),
-        password_hash=row["password_hash"],
-    )
-
-
-def _token(row: sqlite3.Row) -> ApiToken:
-    return ApiToken(
-        id=row["id"],
-        user_id=row["user_id"],
-        name=row["name"],
-        prefix=row["prefix"],
-        kind=row["kind"],
-        created_ns=row["created_ns"],
-        expires_ns=row["expires_ns"],
-        last_used_ns=row["last_used_ns"],
-        revoked_ns=row["revoked_ns"],
-    )
 
 
 class UserTables:
@@ -57,26 +32,34 @@ class UserTables:
                 " VALUES (?, ?, ?, ?, ?)",
                 (username, password_hash, int(is_admin), orjson.dumps(groups).decode(), now_ns),
             )
-            row = c.execute("SELECT * FROM users WHERE id = ?", (cur.lastrowid,)).fetchone()
-            return _user(row)
+            row = c.execute(
+                f"SELECT {USER_COLUMNS} FROM users WHERE id = ?", (cur.lastrowid,)
+            ).fetchone()
+            return user_of(row)
 
         return await self.db.write(_create)
 
     async def get_user(self, user_id: int) -> User | None:
         row = await self.db.read(
-            lambda c: c.execute("SELECT * FROM users WHERE id = ?", (user_id,)).fetchone()
+            lambda c: c.execute(
+                f"SELECT {USER_COLUMNS} FROM users WHERE id = ?", (user_id,)
+            ).fetchone()
         )
-        return _user(row) if row else None
+        return user_of(row) if row else None
 
     async def get_user_by_name(self, username: str) -> User | None:
         row = await self.db.read(
-            lambda c: c.execute("SELECT * FROM users WHERE username = ?", (username,)).fetchone()
+            lambda c: c.execute(
+                f"SELECT {USER_COLUMNS} FROM users WHERE username = ?", (username,)
+            ).fetchone()
         )
-        return _user(row) if row else None
+        return user_of(row) if row else None
 
     async def list_users(self) -> list[User]:
-        rows = await self.db.read(lambda c: c.execute("SELECT * FROM users ORDER BY id").fetchall())
-        return [_user(r) for r in rows]
+        rows = await self.db.read(
+            lambda c: c.execute(f"SELECT {USER_COLUMNS} FROM users ORDER BY id").fetchall()
+        )
+        return [user_of(r) for r in rows]
 
     async def update_user(
         self,
@@ -102,8 +85,8 @@ class UserTables:
         def _update(c: sqlite3.Connection) -> User | None:
             if sets:
                 c.execute(f"UPDATE users SET {', '.join(sets)} WHERE id = ?", (*args, user_id))
-            row = c.execute("SELECT * FROM users WHERE id = ?", (user_id,)).fetchone()
-            return _user(row) if row else None
+            row = c.execute(f"SELECT {USER_COLUMNS} FROM users WHERE id = ?", (user_id,)).fetchone()
+            return user_of(row) if row else None
 
         return await self.db.write(_update)
 
@@ -128,20 +111,24 @@ class UserTables:
                 " expires_ns) VALUES (?, ?, ?, ?, ?, ?, ?)",
                 (user_id, name, token_hash, prefix, kind, now_ns, expires_ns),
             )
-            row = c.execute("SELECT * FROM api_tokens WHERE id = ?", (cur.lastrowid,)).fetchone()
-            return _token(row)
+            row = c.execute(
+                f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE id = ?", (cur.lastrowid,)
+            ).fetchone()
+            return token_of(row)
 
         return await self.db.write(_create)
 
     async def find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None:
         def _find(c: sqlite3.Connection) -> tuple[ApiToken, User] | None:
             row = c.execute(
-                "SELECT * FROM api_tokens WHERE token_hash = ?", (token_hash,)
+                f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE token_hash = ?", (token_hash,)
             ).fetchone()
             if row is None:
                 return None
-            user = c.execute("SELECT * FROM users WHERE id = ?", (row["user_id"],)).fetchone()
-            return (_token(row), _user(user)) if user else None
+            user = c.execute(
+                f"SELECT {USER_COLUMNS} FROM users WHERE id = ?", (row["user_id"],)
+            ).fetchone()
+            return (token_of(row), user_of(user)) if user else None
 
         return await self.db.read(_find)
 
@@ -159,18 +146,20 @@ class UserTables:
     async def list_tokens(self, user_id: int | None) -> list[ApiToken]:
         def _list(c: sqlite3.Connection) -> list[sqlite3.Row]:
             if user_id is None:
-                return c.execute("SELECT * FROM api_tokens ORDER BY id").fetchall()
+                return c.execute(f"SELECT {TOKEN_COLUMNS} FROM api_tokens ORDER BY id").fetchall()
             return c.execute(
-                "SELECT * FROM api_tokens WHERE user_id = ? ORDER BY id", (user_id,)
+                f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE user_id = ? ORDER BY id", (user_id,)
             ).fetchall()
 
-        return [_token(r) for r in await self.db.read(_list)]
+        return [token_of(r) for r in await self.db.read(_list)]
 
     async def get_token(self, token_id: int) -> ApiToken | None:
         row = await self.db.read(
-            lambda c: c.execute("SELECT * FROM api_tokens WHERE id = ?", (token_id,)).fetchone()
+            lambda c: c.execute(
+                f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE id = ?", (token_id,)
+            ).fetchone()
         )
-        return _token(row) if row else None
+        return token_of(row) if row else None
 
     async def revoke_tokens(self, user_id: int, kind: str, now_ns: int) -> int:
         return await self.db.write(

@@ -10,35 +10,7 @@ import orjson
 
 from twinlink.domain.records import ApiToken, User
 from twinlink.store.postgres.db import PostgresDatabase
-
-_USER = "id, username, password_hash, is_admin, groups_json, disabled, created_ns"
-_TOKEN = "id, user_id, name, prefix, kind, created_ns, expires_ns, last_used_ns, revoked_ns"
-
-
-def user_of(row: asyncpg.Record | Mapping[str, Any]) -> User:
-    return User(
-        id=row["id"],
-        username=row["username"],
-        is_admin=row["is_admin"],
-        groups=orjson.loads(row["groups_json"]),
-        created_ns=row["created_ns"],
-        disabled=row["disabled"],
-        password_hash=row["password_hash"],
-    )
-
-
-def _token(row: asyncpg.Record) -> ApiToken:
-    return ApiToken(
-        id=row["id"],
-        user_id=row["user_id"],
-        name=row["name"],
-        prefix=row["prefix"],
-        kind=row["kind"],
-        created_ns=row["created_ns"],
-        expires_ns=row["expires_ns"],
-        last_used_ns=row["last_used_ns"],
-        revoked_ns=row["revoked_ns"],
-    )
+from twinlink.store.rows import TOKEN_COLUMNS, USER_COLUMNS, token_of, user_of
 
 
 class UserTables:
@@ -63,26 +35,26 @@ class UserTables:
         async with self.db.transaction() as conn:
             row = await conn.fetchrow(
                 "INSERT INTO users (username, password_hash, is_admin, groups_json, created_ns)"
-                f" VALUES ($1, $2, $3, $4, $5) RETURNING {_USER}",
+                f" VALUES ($1, $2, $3, $4, $5) RETURNING {USER_COLUMNS}",
                 username, password_hash, is_admin, orjson.dumps(groups).decode(), now_ns,
             )  # fmt: skip
         assert row is not None
         return user_of(row)
 
     async def get_user(self, user_id: int) -> User | None:
-        row = await self._fetchrow(f"SELECT {_USER} FROM users WHERE id = $1", user_id)
+        row = await self._fetchrow(f"SELECT {USER_COLUMNS} FROM users WHERE id = $1", user_id)
         return user_of(row) if row else None
 
     async def get_user_by_name(self, username: str) -> User | None:
         # SQLite's users.username is COLLATE NOCASE: a name is found whatever its case.
         row = await self._fetchrow(
-            f"SELECT {_USER} FROM users WHERE lower(username) = lower($1)", username
+            f"SELECT {USER_COLUMNS} FROM users WHERE lower(username) = lower($1)", username
         )
         return user_of(row) if row else None
 
     async def list_users(self) -> list[User]:
         async with self.db.connection() as conn:
-            rows = await conn.fetch(f"SELECT {_USER} FROM users ORDER BY id")
+            rows = await conn.fetch(f"SELECT {USER_COLUMNS} FROM users ORDER BY id")
         return [user_of(r) for r in rows]
 
     async def update_user(
@@ -108,7 +80,7 @@ class UserTables:
         async with self.db.transaction() as conn:
             if sets:
                 await conn.execute(f"UPDATE users SET {', '.join(sets)} WHERE id = $1", *args)
-            row = await conn.fetchrow(f"SELECT {_USER} FROM users WHERE id = $1", user_id)
+            row = await conn.fetchrow(f"SELECT {USER_COLUMNS} FROM users WHERE id = $1", user_id)
         return user_of(row) if row else None
 
     async def delete_user(self, user_id: int) -> bool:
@@ -129,15 +101,15 @@ class UserTables:
         async with self.db.transaction() as conn:
             row = await conn.fetchrow(
                 "INSERT INTO api_tokens (user_id, name, token_hash, prefix, kind, created_ns,"
-                f" expires_ns) VALUES ($1, $2, $3, $4, $5, $6, $7) RETURNING {_TOKEN}",
+                f" expires_ns) VALUES ($1, $2, $3, $4, $5, $6, $7) RETURNING {TOKEN_COLUMNS}",
                 user_id, name, token_hash, prefix, kind, now_ns, expires_ns,
             )  # fmt: skip
         assert row is not None
-        return _token(row)
+        return token_of(row)
 
     async def find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None:
-        user_columns = ", ".join(f"u.{c} AS u_{c}" for c in _USER.split(", "))
-        token_columns = ", ".join(f"k.{c}" for c in _TOKEN.split(", "))
+        user_columns = ", ".join(f"u.{c} AS u_{c}" for c in USER_COLUMNS.split(", "))
+        token_columns = ", ".join(f"k.{c}" for c in TOKEN_COLUMNS.split(", "))
         row = await self._fetchrow(
             f"SELECT {token_columns}, {user_columns} FROM api_tokens k"
             " JOIN users u ON u.id = k.user_id WHERE k.token_hash = $1",
@@ -145,8 +117,8 @@ class UserTables:
         )
         if row is None:
             return None
-        user = {c: row[f"u_{c}"] for c in _USER.split(", ")}
-        return _token(row), user_of(user)
+        user = {c: row[f"u_{c}"] for c in USER_COLUMNS.split(", ")}
+        return token_of(row), user_of(user)
 
     async def touch_tokens(self, times: Mapping[int, int]) -> None:
         """Record when tokens were last used ({token id: ns}), never moving a time back."""
@@ -161,16 +133,19 @@ class UserTables:
     async def list_tokens(self, user_id: int | None) -> list[ApiToken]:
         async with self.db.connection() as conn:
             if user_id is None:
-                rows = await conn.fetch(f"SELECT {_TOKEN} FROM api_tokens ORDER BY id")
+                rows = await conn.fetch(f"SELECT {TOKEN_COLUMNS} FROM api_tokens ORDER BY id")
             else:
                 rows = await conn.fetch(
-                    f"SELECT {_TOKEN} FROM api_tokens WHERE user_id = $1 ORDER BY id", user_id
+                    f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE user_id = $1 ORDER BY id",
+                    user_id,
                 )
-        return [_token(r) for r in rows]
+        return [token_of(r) for r in rows]
 
     async def get_token(self, token_id: int) -> ApiToken | None:
-        row = await self._fetchrow(f"SELECT {_TOKEN} FROM api_tokens WHERE id = $1", token_id)
-        return _token(row) if row else None
+        row = await self._fetchrow(
+            f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE id = $1", token_id
+        )
+        return token_of(row) if row else None
 
     async def revoke_tokens(self, user_id: int, kind: str, now_ns: int) -> int:
         async with self.db.transaction() as conn:
