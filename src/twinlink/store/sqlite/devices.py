@@ -7,23 +7,8 @@ from collections.abc import Mapping
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import Device
+from twinlink.store.rows import DEVICE_COLUMNS, DEVICE_FROM, device_of
 from twinlink.store.sqlite.db import Database, next_id
-
-_COLUMNS = "d.id, d.twin_id, t.slug, d.name, d.description, d.prefix, d.created_ns, d.last_seen_ns"
-_FROM = "FROM devices d JOIN twins t ON t.id = d.twin_id"
-
-
-def _device(row: sqlite3.Row) -> Device:
-    return Device(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        twin_slug=row["slug"],
-        name=row["name"],
-        description=row["description"],
-        prefix=row["prefix"],
-        created_ns=row["created_ns"],
-        last_seen_ns=row["last_seen_ns"],
-    )
 
 
 class DeviceTables:
@@ -39,8 +24,10 @@ class DeviceTables:
                 " created_ns) VALUES (?, ?, ?, ?, ?, ?, ?)",
                 (device_id, twin_id, name, description, token_hash, prefix, now_ns),
             )
-            return _device(
-                c.execute(f"SELECT {_COLUMNS} {_FROM} WHERE d.id = ?", (device_id,)).fetchone()
+            return device_of(
+                c.execute(
+                    f"SELECT {DEVICE_COLUMNS} {DEVICE_FROM} WHERE d.id = ?", (device_id,)
+                ).fetchone()
             )
 
         try:
@@ -51,26 +38,28 @@ class DeviceTables:
     async def list_devices(self, twin_id: int) -> list[Device]:
         rows = await self.db.read(
             lambda c: c.execute(
-                f"SELECT {_COLUMNS} {_FROM} WHERE d.twin_id = ? ORDER BY d.name", (twin_id,)
+                f"SELECT {DEVICE_COLUMNS} {DEVICE_FROM} WHERE d.twin_id = ? ORDER BY d.name",
+                (twin_id,),
             ).fetchall()
         )
-        return [_device(r) for r in rows]
+        return [device_of(r) for r in rows]
 
     async def get_device(self, twin_id: int, name: str) -> Device | None:
         row = await self.db.read(
             lambda c: c.execute(
-                f"SELECT {_COLUMNS} {_FROM} WHERE d.twin_id = ? AND d.name = ?", (twin_id, name)
+                f"SELECT {DEVICE_COLUMNS} {DEVICE_FROM} WHERE d.twin_id = ? AND d.name = ?",
+                (twin_id, name),
             ).fetchone()
         )
-        return _device(row) if row else None
+        return device_of(row) if row else None
 
     async def find_device(self, token_hash: bytes) -> Device | None:
         row = await self.db.read(
             lambda c: c.execute(
-                f"SELECT {_COLUMNS} {_FROM} WHERE d.token_hash = ?", (token_hash,)
+                f"SELECT {DEVICE_COLUMNS} {DEVICE_FROM} WHERE d.token_hash = ?", (token_hash,)
             ).fetchone()
         )
-        return _device(row) if row else None
+        return device_of(row) if row else None
 
     async def set_device_token(self, device_id: int, token_hash: bytes, prefix: str) -> None:
         await self.db.write(

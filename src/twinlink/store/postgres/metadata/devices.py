@@ -5,27 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-import asyncpg
-
 from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import Device
 from twinlink.store.postgres.db import PostgresDatabase
-
-_COLUMNS = "d.id, d.twin_id, t.slug, d.name, d.description, d.prefix, d.created_ns, d.last_seen_ns"
-_FROM = "FROM devices d JOIN twins t ON t.id = d.twin_id"
-
-
-def _device(row: asyncpg.Record) -> Device:
-    return Device(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        twin_slug=row["slug"],
-        name=row["name"],
-        description=row["description"],
-        prefix=row["prefix"],
-        created_ns=row["created_ns"],
-        last_seen_ns=row["last_seen_ns"],
-    )
+from twinlink.store.rows import DEVICE_COLUMNS, DEVICE_FROM, device_of
 
 
 class DeviceTables:
@@ -33,8 +16,8 @@ class DeviceTables:
 
     async def _devices(self, where: str, *args: Any) -> list[Device]:
         async with self.db.connection() as conn:
-            rows = await conn.fetch(f"SELECT {_COLUMNS} {_FROM} {where}", *args)
-        return [_device(r) for r in rows]
+            rows = await conn.fetch(f"SELECT {DEVICE_COLUMNS} {DEVICE_FROM} {where}", *args)
+        return [device_of(r) for r in rows]
 
     async def create_device(
         self, twin_id: int, name: str, description: str, token_hash: bytes, prefix: str, now_ns: int
@@ -46,11 +29,13 @@ class DeviceTables:
                     " created_ns) VALUES ($1, $2, $3, $4, $5, $6) RETURNING id",
                     twin_id, name, description, token_hash, prefix, now_ns,
                 )  # fmt: skip
-                row = await conn.fetchrow(f"SELECT {_COLUMNS} {_FROM} WHERE d.id = $1", device_id)
+                row = await conn.fetchrow(
+                    f"SELECT {DEVICE_COLUMNS} {DEVICE_FROM} WHERE d.id = $1", device_id
+                )
         except WriteConflictError as err:  # another request created it meanwhile
             raise ConflictError(f"the twin already has a device {name!r}") from err
         assert row is not None
-        return _device(row)
+        return device_of(row)
 
     async def list_devices(self, twin_id: int) -> list[Device]:
         return await self._devices("WHERE d.twin_id = $1 ORDER BY d.name", twin_id)
