@@ -10,6 +10,7 @@ import orjson
 
 from twinlink.domain.errors import ConflictError
 from twinlink.domain.records import Edge, TwinRecord, TwinWrite, Visibility
+from twinlink.store.rows import EDGE_COLUMNS, edge_of, twin_of
 from twinlink.store.sqlite.db import Database, next_id
 from twinlink.store.sqlite.search import delete_search_rows, write_search_rows
 from twinlink.store.sqlite.visibility import part_visible
@@ -20,30 +21,9 @@ _TWIN_COLUMNS = (
 )
 
 
-def _visibility_of(levels: list[str]) -> str:
-    if "public" in levels:
-        return "public"
-    if any(level != "private" for level in levels):
-        return "group"
-    return "private"
-
-
 def _twin(row: sqlite3.Row) -> TwinRecord:
-    levels = sorted(row["levels"].split("\x1f")) if row["levels"] else []
-    return TwinRecord(
-        id=row["id"],
-        slug=row["slug"],
-        dt_id=row["dt_id"],
-        name=row["name"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-        visibility=_visibility_of(levels),
-        levels=levels,
-    )
-
-
-def _edge(row: sqlite3.Row) -> Edge:
-    return Edge(row["source"], row["kind"], row["target"], row["declared_by"], row["privacy"])
+    # The parts' levels come as one string, joined by char(31) (group_concat).
+    return twin_of(row, sorted(row["levels"].split("\x1f")) if row["levels"] else [])
 
 
 class TwinTables:
@@ -175,12 +155,12 @@ class TwinTables:
         def _edges(c: sqlite3.Connection) -> list[sqlite3.Row]:
             marks = ", ".join("?" * len(ids))
             return c.execute(
-                f"SELECT * FROM relations WHERE source IN ({marks})"
-                f" UNION SELECT * FROM relations WHERE target IN ({marks})",
+                f"SELECT {EDGE_COLUMNS} FROM relations WHERE source IN ({marks})"
+                f" UNION SELECT {EDGE_COLUMNS} FROM relations WHERE target IN ({marks})",
                 ids + ids,
             ).fetchall()
 
-        return [_edge(r) for r in await self.db.read(_edges)]
+        return [edge_of(r) for r in await self.db.read(_edges)]
 
     async def descendants(self, roots: Iterable[str], exclude: str) -> set[str]:
         """Every twin reachable from `roots` along parent->child edges not touching `exclude`."""

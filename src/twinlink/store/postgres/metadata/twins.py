@@ -14,41 +14,20 @@ from twinlink.store.postgres.db import Connection, PostgresDatabase
 from twinlink.store.postgres.metadata.index import write_search_rows
 from twinlink.store.postgres.metadata.sql import Args, like_escaped
 from twinlink.store.postgres.metadata.visibility import part_visible
+from twinlink.store.rows import EDGE_COLUMNS, edge_of, twin_of
 
 _TWIN_COLUMNS = (
     "t.id, t.slug, t.dt_id, t.name, t.created_ns, t.modified_ns,"
     " ARRAY(SELECT p.privacy FROM twin_parts p WHERE p.twin_id = t.id) AS levels"
 )
-_EDGE_COLUMNS = "source, kind, target, declared_by, privacy"
 # Held by a transaction that writes relations: any number that is ours alone (db.py's
 # migration lock is another).
 _RELATIONS_LOCK = 0x7477_6C6E_6B00_0010
 
 
-def _visibility_of(levels: list[str]) -> str:
-    if "public" in levels:
-        return "public"
-    if any(level != "private" for level in levels):
-        return "group"
-    return "private"
-
-
 def _twin(row: asyncpg.Record) -> TwinRecord:
-    levels = sorted(row["levels"])
-    return TwinRecord(
-        id=row["id"],
-        slug=row["slug"],
-        dt_id=row["dt_id"],
-        name=row["name"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-        visibility=_visibility_of(levels),
-        levels=levels,
-    )
-
-
-def _edge(row: asyncpg.Record) -> Edge:
-    return Edge(row["source"], row["kind"], row["target"], row["declared_by"], row["privacy"])
+    # The parts' levels come as an array.
+    return twin_of(row, sorted(row["levels"]))
 
 
 class TwinTables:
@@ -164,12 +143,12 @@ class TwinTables:
             return []
         async with self.db.connection() as conn:
             rows = await conn.fetch(
-                f"SELECT {_EDGE_COLUMNS} FROM relations WHERE source = ANY($1::text[])"
-                f" UNION SELECT {_EDGE_COLUMNS} FROM relations WHERE target = ANY($1::text[])"
+                f"SELECT {EDGE_COLUMNS} FROM relations WHERE source = ANY($1::text[])"
+                f" UNION SELECT {EDGE_COLUMNS} FROM relations WHERE target = ANY($1::text[])"
                 " ORDER BY source, kind, target, declared_by",
                 ids,
             )
-        return [_edge(r) for r in rows]
+        return [edge_of(r) for r in rows]
 
     async def descendants(self, roots: Iterable[str], exclude: str) -> set[str]:
         """Every twin reachable from `roots` along parent->child edges not touching `exclude`."""
@@ -243,7 +222,7 @@ async def _save_one(conn: Connection, w: TwinWrite) -> int:
     )
     await conn.execute("DELETE FROM relations WHERE declared_by = $1", w.dt_id)
     await conn.executemany(
-        f"INSERT INTO relations ({_EDGE_COLUMNS}) VALUES ($1, $2, $3, $4, $5)"
+        f"INSERT INTO relations ({EDGE_COLUMNS}) VALUES ($1, $2, $3, $4, $5)"
         " ON CONFLICT (source, kind, target, declared_by) DO UPDATE SET privacy = excluded.privacy",
         [(e.source, e.kind, e.target, e.declared_by, e.privacy) for e in w.edges],
     )
