@@ -9,31 +9,8 @@ import orjson
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import ConnectorRecord
+from twinlink.store.rows import CONNECTOR_COLUMNS, CONNECTOR_FROM, connector_of
 from twinlink.store.sqlite.db import Database, next_id
-
-_COLUMNS = (
-    "c.id, c.twin_id, t.slug, c.device_id, d.name AS device, c.name, c.kind, c.settings,"
-    " c.secret, c.enabled, c.created_by, c.created_ns, c.modified_ns"
-)
-_FROM = "FROM connectors c JOIN twins t ON t.id = c.twin_id JOIN devices d ON d.id = c.device_id"
-
-
-def _connector(row: sqlite3.Row) -> ConnectorRecord:
-    return ConnectorRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        twin_slug=row["slug"],
-        device_id=row["device_id"],
-        device=row["device"],
-        name=row["name"],
-        kind=row["kind"],
-        settings=orjson.loads(row["settings"]),
-        secret=row["secret"],
-        enabled=bool(row["enabled"]),
-        created_by=row["created_by"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-    )
 
 
 class ConnectorTables:
@@ -60,8 +37,10 @@ class ConnectorTables:
                 (cid, twin_id, device_id, name, kind, orjson.dumps(settings), secret, enabled,
                  created_by, now_ns, now_ns),
             )  # fmt: skip
-            return _connector(
-                c.execute(f"SELECT {_COLUMNS} {_FROM} WHERE c.id = ?", (cid,)).fetchone()
+            return connector_of(
+                c.execute(
+                    f"SELECT {CONNECTOR_COLUMNS} {CONNECTOR_FROM} WHERE c.id = ?", (cid,)
+                ).fetchone()
             )
 
         try:
@@ -94,7 +73,9 @@ class ConnectorTables:
         where, args = ("WHERE c.twin_id = ?", (twin_id,)) if twin_id is not None else ("", ())
         return await self.db.read(
             lambda c: [
-                _connector(row)
-                for row in c.execute(f"SELECT {_COLUMNS} {_FROM} {where} ORDER BY c.id", args)
+                connector_of(row)
+                for row in c.execute(
+                    f"SELECT {CONNECTOR_COLUMNS} {CONNECTOR_FROM} {where} ORDER BY c.id", args
+                )
             ]
         )

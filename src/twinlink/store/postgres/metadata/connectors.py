@@ -4,36 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-import asyncpg
 import orjson
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import ConnectorRecord
 from twinlink.store.postgres.db import PostgresDatabase
-
-_COLUMNS = (
-    "c.id, c.twin_id, t.slug, c.device_id, d.name AS device, c.name, c.kind, c.settings,"
-    " c.secret, c.enabled, c.created_by, c.created_ns, c.modified_ns"
-)
-_FROM = "FROM connectors c JOIN twins t ON t.id = c.twin_id JOIN devices d ON d.id = c.device_id"
-
-
-def _connector(row: asyncpg.Record) -> ConnectorRecord:
-    return ConnectorRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        twin_slug=row["slug"],
-        device_id=row["device_id"],
-        device=row["device"],
-        name=row["name"],
-        kind=row["kind"],
-        settings=orjson.loads(row["settings"]),
-        secret=row["secret"],
-        enabled=row["enabled"],
-        created_by=row["created_by"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-    )
+from twinlink.store.rows import CONNECTOR_COLUMNS, CONNECTOR_FROM, connector_of
 
 
 class ConnectorTables:
@@ -60,11 +36,13 @@ class ConnectorTables:
                     twin_id, device_id, name, kind, orjson.dumps(settings).decode(), secret,
                     enabled, created_by, now_ns,
                 )  # fmt: skip
-                row = await conn.fetchrow(f"SELECT {_COLUMNS} {_FROM} WHERE c.id = $1", cid)
+                row = await conn.fetchrow(
+                    f"SELECT {CONNECTOR_COLUMNS} {CONNECTOR_FROM} WHERE c.id = $1", cid
+                )
         except WriteConflictError as err:
             raise ConflictError(f"the twin already has a connector {name!r}") from err
         assert row is not None
-        return _connector(row)
+        return connector_of(row)
 
     async def update_connector(
         self,
@@ -88,5 +66,7 @@ class ConnectorTables:
     async def list_connectors(self, twin_id: int | None = None) -> list[ConnectorRecord]:
         where, args = ("WHERE c.twin_id = $1", [twin_id]) if twin_id is not None else ("", [])
         async with self.db.connection() as conn:
-            rows = await conn.fetch(f"SELECT {_COLUMNS} {_FROM} {where} ORDER BY c.id", *args)
-        return [_connector(r) for r in rows]
+            rows = await conn.fetch(
+                f"SELECT {CONNECTOR_COLUMNS} {CONNECTOR_FROM} {where} ORDER BY c.id", *args
+            )
+        return [connector_of(r) for r in rows]
