@@ -9,45 +9,18 @@ import orjson
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import FmuRecord, ProcessorEvent, ProcessorRecord
+from twinlink.store.rows import (
+    FMU_COLUMNS,
+    PROCESSOR_COLUMNS,
+    PROCESSOR_FROM,
+    event_of,
+    fmu_of,
+    processor_of,
+)
 from twinlink.store.sqlite.db import Database, next_id
 
 # Events kept per processor; older ones are pruned as new ones arrive.
 EVENTS_KEPT = 1000
-
-_COLUMNS = (
-    "p.id, p.twin_id, t.slug, p.name, p.blueprint, p.spec, p.enabled, p.created_by,"
-    " p.created_ns, p.modified_ns"
-)
-_FROM = "FROM processors p JOIN twins t ON t.id = p.twin_id"
-_FMU_COLUMNS = "id, twin_id, name, sha256, size, info, uploaded_by, uploaded_ns"
-
-
-def _processor(row: sqlite3.Row) -> ProcessorRecord:
-    return ProcessorRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        twin_slug=row["slug"],
-        name=row["name"],
-        blueprint=row["blueprint"],
-        spec=orjson.loads(row["spec"]),
-        enabled=bool(row["enabled"]),
-        created_by=row["created_by"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-    )
-
-
-def _fmu(row: sqlite3.Row) -> FmuRecord:
-    return FmuRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        name=row["name"],
-        sha256=row["sha256"],
-        size=row["size"],
-        info=orjson.loads(row["info"]),
-        uploaded_by=row["uploaded_by"],
-        uploaded_ns=row["uploaded_ns"],
-    )
 
 
 class ProcessorTables:
@@ -71,8 +44,10 @@ class ProcessorTables:
                 (pid, twin_id, name, blueprint, orjson.dumps(spec), enabled, created_by, now_ns,
                  now_ns),
             )  # fmt: skip
-            return _processor(
-                c.execute(f"SELECT {_COLUMNS} {_FROM} WHERE p.id = ?", (pid,)).fetchone()
+            return processor_of(
+                c.execute(
+                    f"SELECT {PROCESSOR_COLUMNS} {PROCESSOR_FROM} WHERE p.id = ?", (pid,)
+                ).fetchone()
             )
 
         try:
@@ -99,8 +74,10 @@ class ProcessorTables:
         where, args = ("WHERE p.twin_id = ?", (twin_id,)) if twin_id is not None else ("", ())
         return await self.db.read(
             lambda c: [
-                _processor(r)
-                for r in c.execute(f"SELECT {_COLUMNS} {_FROM} {where} ORDER BY p.name", args)
+                processor_of(r)
+                for r in c.execute(
+                    f"SELECT {PROCESSOR_COLUMNS} {PROCESSOR_FROM} {where} ORDER BY p.name", args
+                )
             ]
         )
 
@@ -138,19 +115,7 @@ class ProcessorTables:
             args.append(kind)
         sql += " ORDER BY id DESC LIMIT ?"
         args.append(limit)
-        return await self.db.read(
-            lambda c: [
-                ProcessorEvent(
-                    r["id"],
-                    r["processor_id"],
-                    r["time_ns"],
-                    r["kind"],
-                    r["message"],
-                    orjson.loads(r["data"]),
-                )
-                for r in c.execute(sql, args)
-            ]
-        )
+        return await self.db.read(lambda c: [event_of(r) for r in c.execute(sql, args)])
 
     # -- FMUs ------------------------------------------------------------------------------
 
@@ -175,18 +140,18 @@ class ProcessorTables:
                 (twin_id, name, sha256, size, orjson.dumps(info), uploaded_by, now_ns),
             )
             row = c.execute(
-                f"SELECT {_FMU_COLUMNS} FROM fmus WHERE twin_id = ? AND name = ?", (twin_id, name)
+                f"SELECT {FMU_COLUMNS} FROM fmus WHERE twin_id = ? AND name = ?", (twin_id, name)
             ).fetchone()
-            return _fmu(row)
+            return fmu_of(row)
 
         return await self.db.write(_put)
 
     async def list_fmus(self, twin_id: int) -> list[FmuRecord]:
         return await self.db.read(
             lambda c: [
-                _fmu(r)
+                fmu_of(r)
                 for r in c.execute(
-                    f"SELECT {_FMU_COLUMNS} FROM fmus WHERE twin_id = ? ORDER BY name", (twin_id,)
+                    f"SELECT {FMU_COLUMNS} FROM fmus WHERE twin_id = ? ORDER BY name", (twin_id,)
                 )
             ]
         )

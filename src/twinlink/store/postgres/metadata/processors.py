@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import asyncpg
 import orjson
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
@@ -12,55 +11,17 @@ from twinlink.domain.records import FmuRecord, ProcessorEvent, ProcessorRecord
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.metadata.sql import Args
 from twinlink.store.postgres.metadata.users import affected
+from twinlink.store.rows import (
+    FMU_COLUMNS,
+    PROCESSOR_COLUMNS,
+    PROCESSOR_FROM,
+    event_of,
+    fmu_of,
+    processor_of,
+)
 
 # Events kept per processor; older ones are pruned as new ones arrive.
 EVENTS_KEPT = 1000
-
-_COLUMNS = (
-    "p.id, p.twin_id, t.slug, p.name, p.blueprint, p.spec, p.enabled, p.created_by,"
-    " p.created_ns, p.modified_ns"
-)
-_FROM = "FROM processors p JOIN twins t ON t.id = p.twin_id"
-_FMU_COLUMNS = "id, twin_id, name, sha256, size, info, uploaded_by, uploaded_ns"
-
-
-def _processor(row: asyncpg.Record) -> ProcessorRecord:
-    return ProcessorRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        twin_slug=row["slug"],
-        name=row["name"],
-        blueprint=row["blueprint"],
-        spec=orjson.loads(row["spec"]),
-        enabled=row["enabled"],
-        created_by=row["created_by"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-    )
-
-
-def _fmu(row: asyncpg.Record) -> FmuRecord:
-    return FmuRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        name=row["name"],
-        sha256=row["sha256"],
-        size=row["size"],
-        info=orjson.loads(row["info"]),
-        uploaded_by=row["uploaded_by"],
-        uploaded_ns=row["uploaded_ns"],
-    )
-
-
-def _event(row: asyncpg.Record) -> ProcessorEvent:
-    return ProcessorEvent(
-        row["id"],
-        row["processor_id"],
-        row["time_ns"],
-        row["kind"],
-        row["message"],
-        orjson.loads(row["data"]),
-    )
 
 
 def _json(value: Any) -> str:
@@ -88,11 +49,13 @@ class ProcessorTables:
                     " RETURNING id",
                     twin_id, name, blueprint, _json(spec), enabled, created_by, now_ns,
                 )  # fmt: skip
-                row = await conn.fetchrow(f"SELECT {_COLUMNS} {_FROM} WHERE p.id = $1", pid)
+                row = await conn.fetchrow(
+                    f"SELECT {PROCESSOR_COLUMNS} {PROCESSOR_FROM} WHERE p.id = $1", pid
+                )
         except WriteConflictError as err:
             raise ConflictError(f"the twin already has a processor {name!r}") from err
         assert row is not None
-        return _processor(row)
+        return processor_of(row)
 
     async def update_processor(
         self, processor_id: int, spec: dict[str, Any], enabled: bool, now_ns: int
@@ -110,8 +73,10 @@ class ProcessorTables:
     async def list_processors(self, twin_id: int | None = None) -> list[ProcessorRecord]:
         where, args = ("WHERE p.twin_id = $1", [twin_id]) if twin_id is not None else ("", [])
         async with self.db.connection() as conn:
-            rows = await conn.fetch(f"SELECT {_COLUMNS} {_FROM} {where} ORDER BY p.name", *args)
-        return [_processor(r) for r in rows]
+            rows = await conn.fetch(
+                f"SELECT {PROCESSOR_COLUMNS} {PROCESSOR_FROM} {where} ORDER BY p.name", *args
+            )
+        return [processor_of(r) for r in rows]
 
     async def add_processor_events(
         self, events: list[tuple[int, int, str, str, dict[str, Any]]]
@@ -142,7 +107,7 @@ class ProcessorTables:
         sql += f" ORDER BY id DESC LIMIT {args(limit)}"
         async with self.db.connection() as conn:
             rows = await conn.fetch(sql, *args)
-        return [_event(r) for r in rows]
+        return [event_of(r) for r in rows]
 
     # -- FMUs ------------------------------------------------------------------------------
 
@@ -163,18 +128,18 @@ class ProcessorTables:
                 " VALUES ($1, $2, $3, $4, $5, $6, $7) ON CONFLICT (twin_id, name) DO UPDATE SET"
                 " sha256 = excluded.sha256, size = excluded.size, info = excluded.info,"
                 " uploaded_by = excluded.uploaded_by, uploaded_ns = excluded.uploaded_ns"
-                f" RETURNING {_FMU_COLUMNS}",
+                f" RETURNING {FMU_COLUMNS}",
                 twin_id, name, sha256, size, _json(info), uploaded_by, now_ns,
             )  # fmt: skip
         assert row is not None
-        return _fmu(row)
+        return fmu_of(row)
 
     async def list_fmus(self, twin_id: int) -> list[FmuRecord]:
         async with self.db.connection() as conn:
             rows = await conn.fetch(
-                f"SELECT {_FMU_COLUMNS} FROM fmus WHERE twin_id = $1 ORDER BY name", twin_id
+                f"SELECT {FMU_COLUMNS} FROM fmus WHERE twin_id = $1 ORDER BY name", twin_id
             )
-        return [_fmu(r) for r in rows]
+        return [fmu_of(r) for r in rows]
 
     async def delete_fmu(self, twin_id: int, name: str) -> bool:
         async with self.db.transaction() as conn:
