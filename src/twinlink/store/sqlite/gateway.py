@@ -9,30 +9,8 @@ import orjson
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
 from twinlink.domain.records import AuditEntry, ServiceRecord
+from twinlink.store.rows import AUDIT_COLUMNS, SERVICE_COLUMNS, audit_of, service_of
 from twinlink.store.sqlite.db import Database
-
-_SERVICE_COLUMNS = (
-    "id, twin_id, name, source, settings, secret, auth_origin, created_by, created_ns, modified_ns"
-)
-_AUDIT_COLUMNS = (
-    "time_ns, twin, service, caller, method, path, status, outcome, bytes_in, bytes_out,"
-    " upstream_ms, total_ms"
-)
-
-
-def _service(row: sqlite3.Row) -> ServiceRecord:
-    return ServiceRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        name=row["name"],
-        source=row["source"],
-        settings=orjson.loads(row["settings"]),
-        secret=row["secret"],
-        auth_origin=row["auth_origin"],
-        created_by=row["created_by"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-    )
 
 
 class GatewayTables:
@@ -40,8 +18,8 @@ class GatewayTables:
 
     async def list_services(self, twin_id: int | None = None) -> list[ServiceRecord]:
         where, args = ("WHERE twin_id = ?", (twin_id,)) if twin_id is not None else ("", ())
-        sql = f"SELECT {_SERVICE_COLUMNS} FROM gateway_services {where} ORDER BY name"
-        return await self.db.read(lambda c: [_service(r) for r in c.execute(sql, args)])
+        sql = f"SELECT {SERVICE_COLUMNS} FROM gateway_services {where} ORDER BY name"
+        return await self.db.read(lambda c: [service_of(r) for r in c.execute(sql, args)])
 
     async def put_service(self, record: ServiceRecord, create: bool) -> ServiceRecord:
         """Insert `record` (create) or replace the row of its twin and name."""
@@ -68,10 +46,10 @@ class GatewayTables:
                     (*values, record.twin_id, record.name),
                 )
             row = c.execute(
-                f"SELECT {_SERVICE_COLUMNS} FROM gateway_services WHERE twin_id = ? AND name = ?",
+                f"SELECT {SERVICE_COLUMNS} FROM gateway_services WHERE twin_id = ? AND name = ?",
                 (record.twin_id, record.name),
             ).fetchone()
-            return _service(row)
+            return service_of(row)
 
         try:
             return await self.db.write(_put)
@@ -91,7 +69,7 @@ class GatewayTables:
 
         def _add(c: sqlite3.Connection) -> None:
             c.executemany(
-                f"INSERT INTO gateway_audit({_AUDIT_COLUMNS}) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)",
+                f"INSERT INTO gateway_audit({AUDIT_COLUMNS}) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)",
                 [
                     (e.time_ns, e.twin, e.service, e.caller, e.method, e.path, e.status,
                      e.outcome, e.bytes_in, e.bytes_out, e.upstream_ms, e.total_ms)
@@ -107,7 +85,7 @@ class GatewayTables:
     ) -> list[AuditEntry]:
         """Newest first. `filters` may hold twin, service, caller, method, status, since_ns,
         until_ns, twins (a list of slugs the caller may see, or None for all)."""
-        sql = f"SELECT id, {_AUDIT_COLUMNS} FROM gateway_audit WHERE 1 = 1"
+        sql = f"SELECT id, {AUDIT_COLUMNS} FROM gateway_audit WHERE 1 = 1"
         args: list[Any] = []
         for key in ("twin", "service", "caller", "method", "status"):
             if filters.get(key) is not None:
@@ -128,9 +106,4 @@ class GatewayTables:
             args.append(before_id)
         sql += " ORDER BY id DESC LIMIT ?"
         args.append(limit)
-        return await self.db.read(
-            lambda c: [
-                AuditEntry(**{k: r[k] for k in r.keys()})  # noqa: SIM118 (sqlite3.Row)
-                for r in c.execute(sql, args)
-            ]
-        )
+        return await self.db.read(lambda c: [audit_of(r) for r in c.execute(sql, args)])

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import asyncpg
 import orjson
 
 from twinlink.domain.errors import ConflictError, WriteConflictError
@@ -12,30 +11,7 @@ from twinlink.domain.records import AuditEntry, ServiceRecord
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.metadata.sql import Args
 from twinlink.store.postgres.metadata.users import affected
-
-_SERVICE_COLUMNS = (
-    "id, twin_id, name, source, settings, secret, auth_origin, created_by, created_ns, modified_ns"
-)
-_AUDIT_FIELDS = (
-    "time_ns", "twin", "service", "caller", "method", "path", "status", "outcome", "bytes_in",
-    "bytes_out", "upstream_ms", "total_ms",
-)  # fmt: skip
-_AUDIT_COLUMNS = ", ".join(_AUDIT_FIELDS)
-
-
-def _service(row: asyncpg.Record) -> ServiceRecord:
-    return ServiceRecord(
-        id=row["id"],
-        twin_id=row["twin_id"],
-        name=row["name"],
-        source=row["source"],
-        settings=orjson.loads(row["settings"]),
-        secret=row["secret"],
-        auth_origin=row["auth_origin"],
-        created_by=row["created_by"],
-        created_ns=row["created_ns"],
-        modified_ns=row["modified_ns"],
-    )
+from twinlink.store.rows import AUDIT_COLUMNS, AUDIT_FIELDS, SERVICE_COLUMNS, audit_of, service_of
 
 
 class GatewayTables:
@@ -45,9 +21,9 @@ class GatewayTables:
         where, args = ("WHERE twin_id = $1", [twin_id]) if twin_id is not None else ("", [])
         async with self.db.connection() as conn:
             rows = await conn.fetch(
-                f"SELECT {_SERVICE_COLUMNS} FROM gateway_services {where} ORDER BY name", *args
+                f"SELECT {SERVICE_COLUMNS} FROM gateway_services {where} ORDER BY name", *args
             )
-        return [_service(r) for r in rows]
+        return [service_of(r) for r in rows]
 
     async def put_service(self, record: ServiceRecord, create: bool) -> ServiceRecord:
         """Insert `record` (create) or replace the row of its twin and name."""
@@ -74,14 +50,14 @@ class GatewayTables:
                         *values, record.twin_id, record.name,
                     )  # fmt: skip
                 row = await conn.fetchrow(
-                    f"SELECT {_SERVICE_COLUMNS} FROM gateway_services"
+                    f"SELECT {SERVICE_COLUMNS} FROM gateway_services"
                     " WHERE twin_id = $1 AND name = $2",
                     record.twin_id, record.name,
                 )  # fmt: skip
         except WriteConflictError as err:
             raise ConflictError(f"the twin already has a service {record.name!r}") from err
         assert row is not None
-        return _service(row)
+        return service_of(row)
 
     async def delete_service(self, twin_id: int, name: str) -> bool:
         async with self.db.transaction() as conn:
@@ -95,8 +71,8 @@ class GatewayTables:
         async with self.db.transaction() as conn:
             await conn.copy_records_to_table(
                 "gateway_audit",
-                records=[tuple(getattr(e, f) for f in _AUDIT_FIELDS) for e in entries],
-                columns=_AUDIT_FIELDS,
+                records=[tuple(getattr(e, f) for f in AUDIT_FIELDS) for e in entries],
+                columns=AUDIT_FIELDS,
             )
             await conn.execute("DELETE FROM gateway_audit WHERE time_ns < $1", keep_after_ns)
 
@@ -106,7 +82,7 @@ class GatewayTables:
         """Newest first. `filters` may hold twin, service, caller, method, status, since_ns,
         until_ns, twins (a list of slugs the caller may see, or None for all)."""
         args = Args()
-        sql = f"SELECT id, {_AUDIT_COLUMNS} FROM gateway_audit WHERE true"
+        sql = f"SELECT id, {AUDIT_COLUMNS} FROM gateway_audit WHERE true"
         for key in ("twin", "service", "caller", "method", "status"):
             if filters.get(key) is not None:
                 sql += f" AND {key} = {args(filters[key])}"
@@ -121,4 +97,4 @@ class GatewayTables:
         sql += f" ORDER BY id DESC LIMIT {args(limit)}"
         async with self.db.connection() as conn:
             rows = await conn.fetch(sql, *args)
-        return [AuditEntry(**dict(r.items())) for r in rows]
+        return [audit_of(r) for r in rows]
