@@ -202,6 +202,9 @@ def test_a_kafka_restart_mid_stream_loses_nothing_acknowledged(
                 retried = [o for o in device.outcomes if o.kind == "duplicate"]
                 assert retried, f"device {device.dev}: no stored-but-unpublished batch"
             poll_until(lambda: unpublished(shared.dsn) == 0, "every batch marked published")
+            # the node stopped waiting for Kafka after its bound, not the client's 40 s
+            details = [o.detail for d in devices for o in d.outcomes if o.kind == UNAVAILABLE]
+            assert any("TWINLINK_BUS_PUBLISH_TIMEOUT_S" in text for text in details), details
             check_history(devices, shared.dsn)
             check_live(devices, live)
             live.stop()
