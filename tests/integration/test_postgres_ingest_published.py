@@ -18,7 +18,7 @@ from tests.unit import test_ingest_published
 from tests.unit.test_ingest_published import DEVICE, FlakyBus, body, seqs
 from twinlink.domain.errors import UnavailableError
 from twinlink.ingest.service import IngestService
-from twinlink.store.postgres.db import PostgresDatabase
+from twinlink.store.postgres.db import PostgresDatabase, migrate
 from twinlink.store.postgres.history import PostgresHistory
 
 rerun_on_postgres(test_ingest_published, globals())
@@ -82,3 +82,16 @@ async def test_a_node_that_stopped_between_commit_and_publish_leaves_it_to_the_r
             await db.close()
     assert seqs(bus) == [5]
     assert await published_flags(postgres_dsn) == {5: True}  # close() wrote the mark
+
+
+async def test_batches_stored_before_the_upgrade_count_as_published(postgres_dsn: str) -> None:
+    # a database of the version before `published` (0002): its batches went on the bus
+    # when they were stored, so a resend of one must not publish it again
+    conn = await asyncpg.connect(postgres_dsn)
+    try:
+        assert await migrate(conn, target=2) == [1, 2]
+        await conn.execute("INSERT INTO ingested (device_id, seq, at_ns) VALUES (3, 9, 1)")
+        await migrate(conn)
+    finally:
+        await conn.close()
+    assert await published_flags(postgres_dsn) == {9: True}
