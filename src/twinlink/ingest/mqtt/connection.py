@@ -15,6 +15,7 @@ from collections.abc import Iterable
 from typing import Any, Protocol
 
 from twinlink.auth.service import AuthError
+from twinlink.domain.errors import StorageError
 from twinlink.domain.records import Device
 from twinlink.ingest.link import connect_device, disconnect_device
 from twinlink.ingest.mqtt import packets as mq
@@ -130,6 +131,8 @@ class DeviceConnection:
             device = await self.listener.platform.devices.authenticate(token)
         except AuthError as err:
             return self._refuse(mq.BAD_CREDENTIALS, str(err))
+        except StorageError as err:  # the token could not be read: not a bad one; retry
+            return self._refuse(mq.SERVER_UNAVAILABLE, str(err))
         if not connect.client_id and not connect.clean_start and self.version != mq.V5:
             return self._refuse(mq.CLIENT_ID_INVALID, "an empty client id needs a clean session")
         props = self._connack_properties(connect, device)
