@@ -101,6 +101,9 @@ class ConnectorService:
         self.claims = claims
         self._keeper: asyncio.Task[None] | None = None
         self._versions: dict[int, int] = {}
+        # A lease round and a change made through the API take turns: a round that read the
+        # connectors before a stop must not start again what the stop just ended.
+        self._changing = asyncio.Lock()
         registry.deleted_listeners.append(self._twins_deleted)
         devices.deleted_listeners.append(self._device_deleted)
 
@@ -159,19 +162,20 @@ class ConnectorService:
         if any(r.name == name for r in await self.store.list_connectors(twin.id)):
             raise ConflictError(f"twin {slug!r} already has a connector {name!r}")
         device, made = await self._device_for(principal, slug, body.get("device"), name)
-        record = await self.store.create_connector(
-            twin.id, device.id, name, kind, public, self._seal(secret), enabled,
-            principal.user.id if principal.user else None, time.time_ns(),
-        )  # fmt: skip
-        if enabled and await self._may_run(record.id):
-            try:
-                await self._start(record)
-            except InvalidInputError:  # nothing is kept: the person fixes it and tries again
-                await self.store.delete_connector(record.id)
-                if made:
-                    await self.devices.delete(principal, slug, device.name)
-                self.failed.pop(record.id, None)
-                raise
+        async with self._changing:
+            record = await self.store.create_connector(
+                twin.id, device.id, name, kind, public, self._seal(secret), enabled,
+                principal.user.id if principal.user else None, time.time_ns(),
+            )  # fmt: skip
+            if enabled and await self._may_run(record.id):
+                try:
+                    await self._start(record)
+                except InvalidInputError:  # nothing is kept: the person fixes it and tries again
+                    await self.store.delete_connector(record.id)
+                    if made:
+                        await self.devices.delete(principal, slug, device.name)
+                    self.failed.pop(record.id, None)
+                    raise
         return self.view(record)
 
     async def update(
@@ -194,22 +198,23 @@ class ConnectorService:
             raise InvalidInputError("`config` is a JSON object of the settings to change")
         merged = {**record.settings, **self._unseal(record), **patch}
         public, secret = split_config(checked_config(record.kind, merged))
-        before = (record.settings, record.secret, record.enabled)
-        await self._stop(record.id)
-        record.settings, record.secret, record.enabled = public, self._seal(secret), enabled
-        try:
-            if enabled and await self._may_run(record.id):
-                await self._start(record)
-        except InvalidInputError:  # back to what it was, running again if it ran
-            record.settings, record.secret, record.enabled = before
-            if record.enabled:
-                await self._start_quietly(record)
-            raise
-        now = time.time_ns()
-        await self.store.update_connector(record.id, public, record.secret, enabled, now)
-        record.modified_ns = now
-        if record.id in self._versions:  # as stored: no change made elsewhere to follow
-            self._versions[record.id] = now
+        async with self._changing:
+            before = (record.settings, record.secret, record.enabled)
+            await self._stop(record.id)
+            record.settings, record.secret, record.enabled = public, self._seal(secret), enabled
+            try:
+                if enabled and await self._may_run(record.id):
+                    await self._start(record)
+            except InvalidInputError:  # back to what it was, running again if it ran
+                record.settings, record.secret, record.enabled = before
+                if record.enabled:
+                    await self._start_quietly(record)
+                raise
+            now = time.time_ns()
+            await self.store.update_connector(record.id, public, record.secret, enabled, now)
+            record.modified_ns = now
+            if record.id in self._versions:  # as stored: no change made elsewhere to follow
+                self._versions[record.id] = now
         return self.view(record)
 
     async def restart(self, principal: Principal, slug: str, name: str) -> dict[str, Any]:
@@ -217,20 +222,22 @@ class ConnectorService:
         record = await self._find(principal, slug, name)
         if not record.enabled:
             raise ConflictError(f"connector {name!r} is disabled; enable it instead")
-        if not await self._may_run(record.id):  # it runs on another node: it restarts there
-            await self.store.update_connector(
-                record.id, record.settings, record.secret, True, time.time_ns()
-            )
-            return self.view(record)
-        await self._stop(record.id)
-        await self._start(record)
+        async with self._changing:
+            if not await self._may_run(record.id):  # it runs on another node: it restarts there
+                await self.store.update_connector(
+                    record.id, record.settings, record.secret, True, time.time_ns()
+                )
+                return self.view(record)
+            await self._stop(record.id)
+            await self._start(record)
         return self.view(record)
 
     async def delete(self, principal: Principal, slug: str, name: str) -> None:
         self._require_admin(principal)
         record = await self._find(principal, slug, name)
-        await self._stop(record.id)
-        await self.store.delete_connector(record.id)
+        async with self._changing:
+            await self._stop(record.id)
+            await self.store.delete_connector(record.id)
 
     def view(self, record: ConnectorRecord) -> dict[str, Any]:
         running = self.running.get(record.id)
@@ -310,7 +317,8 @@ class ConnectorService:
         while True:
             await asyncio.sleep(self.claims.renew_s)
             try:
-                await self._rebalance()
+                async with self._changing:
+                    await self._rebalance()
             except Exception:  # the next round tries again; the loop must not end
                 log.exception("connector leases: a round failed")
 

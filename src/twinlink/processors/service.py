@@ -74,6 +74,9 @@ class ProcessorService:
         self.claims = claims
         self.history = history  # where a processor catches up from (with `claims` only)
         self._keeper: asyncio.Task[None] | None = None
+        # A lease round and a change made through the API take turns: a round that read the
+        # processors before a stop must not start again what the stop just ended.
+        self._changing = asyncio.Lock()
         registry.deleted_listeners.append(self._twins_deleted)
 
     # -- lifecycle --------------------------------------------------------------------------
@@ -131,11 +134,13 @@ class ProcessorService:
         if spec.enabled:
             self._check_room()
         user_id = principal.user.id if principal.user else None
-        record = await self.store.create_processor(
-            twin.id, spec.name, spec.blueprint, spec.stored(), spec.enabled, user_id, time.time_ns()
-        )
-        if record.enabled and await self._may_run(record.id):
-            self._host(record)
+        async with self._changing:
+            record = await self.store.create_processor(
+                twin.id, spec.name, spec.blueprint, spec.stored(), spec.enabled, user_id,
+                time.time_ns(),
+            )  # fmt: skip
+            if record.enabled and await self._may_run(record.id):
+                self._host(record)
         return self.view(record)
 
     async def update(
@@ -153,11 +158,13 @@ class ProcessorService:
         check_chain(spec, others)
         if spec.enabled and record.id not in self.hosted:
             self._check_room()
-        now = time.time_ns()
-        await self.store.update_processor(record.id, spec.stored(), spec.enabled, now)
-        record.spec, record.enabled, record.blueprint = spec.stored(), spec.enabled, spec.blueprint
-        record.modified_ns = now  # as stored: other rounds see no change made elsewhere
-        kept = await self._apply(record, current, spec)
+        async with self._changing:
+            now = time.time_ns()
+            await self.store.update_processor(record.id, spec.stored(), spec.enabled, now)
+            record.spec, record.enabled = spec.stored(), spec.enabled
+            record.blueprint = spec.blueprint
+            record.modified_ns = now  # as stored: other rounds see no change made elsewhere
+            kept = await self._apply(record, current, spec)
         return {**self.view(record), "kept_state": kept}
 
     async def set_enabled(
@@ -181,9 +188,10 @@ class ProcessorService:
 
     async def delete(self, principal: Principal, slug: str, name: str) -> None:
         record = await self._find(principal, slug, name, "editor")
-        await self._unhost(record.id)
-        await self.store.delete_processor(record.id)
-        await self._forget_position(record.id)
+        async with self._changing:
+            await self._unhost(record.id)
+            await self.store.delete_processor(record.id)
+            await self._forget_position(record.id)
 
     async def events(
         self, principal: Principal, slug: str, name: str, limit: int, before: int | None,
@@ -240,7 +248,8 @@ class ProcessorService:
         while True:
             await asyncio.sleep(self.claims.renew_s)
             try:
-                await self._rebalance()
+                async with self._changing:
+                    await self._rebalance()
             except Exception:  # the next round tries again; the loop must not end
                 log.exception("processor leases: a round failed")
 
