@@ -36,7 +36,7 @@ from twinlink.api.readiness import Readiness
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
 from twinlink.auth.vault import Vault
-from twinlink.backends import Shared, pick_bus, pick_storage
+from twinlink.backends import Shared, Storage, pick_bus, pick_storage
 from twinlink.bus import Bus
 from twinlink.cluster import CacheSync
 from twinlink.commands import CommandService, PropertyService
@@ -142,18 +142,7 @@ def build_services(settings: Settings) -> Services:
         live=LiveHub(bus),
         history_service=HistoryService(registry, history),
         history_maintenance=maintenance,
-        processors=ProcessorService(
-            store,
-            registry,
-            bus,
-            ingest,
-            commands,
-            settings.data_dir,
-            settings.blueprints_dir,
-            settings.max_processors,
-            stores.claims("processor"),
-            history,  # a processor starting on a shared store catches up from it
-        ),
+        processors=_processor_service(settings, stores, registry, bus, ingest, commands),
         fmus=FmuService(
             store, registry, settings.data_dir, settings.fmu_max_mb * 2**20, settings.fmu_uploaders
         ),
@@ -163,6 +152,28 @@ def build_services(settings: Settings) -> Services:
         ),
         mqtt=MqttService(settings, devices, hub, ingest, stores.claims("mqtt-broker")),
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
+    )
+
+
+def _processor_service(
+    settings: Settings,
+    stores: Storage,
+    registry: RegistryService,
+    bus: Bus,
+    ingest: IngestService,
+    commands: CommandService,
+) -> ProcessorService:
+    return ProcessorService(
+        stores.metadata,
+        registry,
+        bus,
+        ingest,
+        commands,
+        settings.data_dir,
+        settings.blueprints_dir,
+        settings.max_processors,
+        stores.claims("processor"),
+        stores.history,  # a processor starting on a shared store catches up from it
     )
 
 
