@@ -43,13 +43,14 @@ from twinlink.devcluster.haproxy import HAProxy, HAProxyError, start_haproxy
 from twinlink.devcluster.kafka import KafkaBroker, KafkaError, kafka_libs, start_kafka
 from twinlink.devcluster.nodes import Node, NodeError, launch_node, wait_serving
 from twinlink.devcluster.postgres import PostgresError, PostgresServer, start_postgres
+from twinlink.domain.errors import TwinlinkError
 
 DATABASE = ROLE = "twinlink"
 BALANCED_S = 60.0  # haproxy sees a new node up after two good checks, 500 ms apart
 Say = Callable[[str], None]
 
 
-class ClusterError(RuntimeError):
+class ClusterError(TwinlinkError):
     """A part of the cluster did not start; the message says which and where its log is."""
 
 

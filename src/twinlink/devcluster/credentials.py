@@ -12,11 +12,13 @@ from pathlib import Path
 
 from cryptography.fernet import Fernet
 
+from twinlink.domain.errors import TwinlinkError
+
 ADMIN_FILE = "admin-credentials.txt"
 ADMIN = "admin"
 
 
-class CredentialsError(RuntimeError):
+class CredentialsError(TwinlinkError):
     """A kept secret is missing or damaged; the message says which file and what to do."""
 
 

@@ -19,13 +19,14 @@ from pathlib import Path
 import httpx
 
 from twinlink.devcluster._process import dying_with_parent, stop_process
+from twinlink.domain.errors import TwinlinkError
 
 DEVICE = "tingenSAP"
 TWIN = "tingen"
 _OUTCOMES = ("created", "updated", "unchanged")
 
 
-class DemoError(RuntimeError):
+class DemoError(TwinlinkError):
     """The cluster refused a demo document or device."""
 
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from twinlink.devcluster._process import dying_with_parent, free_ports, listening, stop_process
+from twinlink.domain.errors import TwinlinkError
 
 START_S = 30.0
 STOP_S = 10.0
@@ -35,7 +36,7 @@ NODE_HEADER = "X-Twinlink-Node"
 STATS_SOCKET = "haproxy.sock"  # in its folder, for HAProxy.server_states
 
 
-class HAProxyError(RuntimeError):
+class HAProxyError(TwinlinkError):
     """haproxy is missing, refused its config or did not start listening."""
 
 

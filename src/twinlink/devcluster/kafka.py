@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from twinlink.devcluster._process import dying_with_parent, free_ports, stop_process
+from twinlink.domain.errors import TwinlinkError
 
 START_S = 60.0  # a JVM on a busy 2-core machine; it is ready in about 3 s when idle
 STOP_S = 20.0
@@ -35,7 +36,7 @@ JVM_OPTIONS = [
 CHECKOUT = Path(__file__).resolve().parents[3]
 
 
-class KafkaError(RuntimeError):
+class KafkaError(TwinlinkError):
     """The broker's jars could not be had, or the broker did not start."""
 
 

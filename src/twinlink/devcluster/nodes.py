@@ -15,12 +15,13 @@ from pathlib import Path
 import httpx
 
 from twinlink.devcluster._process import dying_with_parent, stop_process
+from twinlink.domain.errors import TwinlinkError
 
 START_S = 120.0  # migrations on a fresh database, on a busy 2-core machine
 STOP_S = 30.0  # a clean stop hands the node's leases and sessions over
 
 
-class NodeError(RuntimeError):
+class NodeError(TwinlinkError):
     """A node did not start."""
 
 

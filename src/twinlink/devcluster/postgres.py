@@ -21,13 +21,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from twinlink.devcluster._process import dying_with_parent, free_ports, stop_process
+from twinlink.domain.errors import TwinlinkError
 
 START_S = 60.0  # a cold initdb and start on a busy 2-core machine take a few seconds
 STOP_S = 30.0
 SUPERUSER = "postgres"
 
 
-class PostgresError(RuntimeError):
+class PostgresError(TwinlinkError):
     """PostgreSQL is missing, or its server did not start or refused a command."""
 
 
