@@ -28,11 +28,10 @@ from twinlink.domain.errors import (
 )
 from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
 from twinlink.ingest.service import IngestService
-from twinlink.processors.blueprint import Batch
 from twinlink.processors.catalog import Entry, discover
 from twinlink.processors.checks import check_chain, checked_spec, spec_of
-from twinlink.processors.convert import to_samples
 from twinlink.processors.hosting import Hosted, save_positions, subscribed
+from twinlink.processors.outputs import Outputs
 from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
 from twinlink.registry.service import RegistryService
@@ -77,6 +76,7 @@ class ProcessorService:
         # A lease round and a change made through the API take turns: a round that read the
         # processors before a stop must not start again what the stop just ended.
         self._changing = asyncio.Lock()
+        self.outputs = Outputs(ingest)
         registry.deleted_listeners.append(self._twins_deleted)
 
     # -- lifecycle --------------------------------------------------------------------------
@@ -293,7 +293,7 @@ class ProcessorService:
         config = self._worker_config(record, entry)
         supervisor = Supervisor(
             config,
-            on_output=partial(self._publish, record),
+            on_output=partial(self.outputs.publish, record),
             on_events=partial(self._record_events, record),
             on_commands=partial(self._send_commands, record),
         )
@@ -342,13 +342,6 @@ class ProcessorService:
             workdir=self.data_dir / "processors" / str(record.id),
             memory_limit_bytes=spec.memory_limit_mb * 2**20,
             batch_timeout_s=spec.batch_timeout_s,
-        )
-
-    async def _publish(self, record: ProcessorRecord, out: Batch) -> None:
-        stream = record.spec.get("output") or record.name
-        source = f"processor:{record.name}"
-        await self.ingest.publish_first(
-            to_samples(out, record.twin_id, record.twin_slug, stream, source)
         )
 
     def _record_events(self, record: ProcessorRecord, events: list[EventTuple]) -> None:
