@@ -11,10 +11,12 @@ database of its own and nodes started for it.
 from __future__ import annotations
 
 import contextlib
+import re
 import secrets
 import shutil
 import tempfile
 import time
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -168,3 +170,24 @@ def _wait_balanced(setup: Setup, timeout_s: float = 30.0) -> None:
                 return
             time.sleep(0.05)  # polling haproxy's real state, with a deadline
     raise RuntimeError(f"haproxy sent requests only to {sorted(seen)} within {timeout_s:g} s")
+
+
+# httplog's termination state (who ended the session, in what state) and the timers after it
+_STATE = re.compile(r" ([A-Za-z-]{4}) \d+/\d+/\d+/\d+/\d+ ")
+
+
+def haproxy_aborts(log: Path, examples: int = 3) -> dict[str, object]:
+    """Requests haproxy did not end normally (state other than `----`), by state: the first
+    letter says who ended it (C client, S server, P/I haproxy), the second in which phase
+    (R request, H headers, D data); see haproxy's "Session state at disconnection"."""
+    states: Counter[str] = Counter()
+    seen: list[str] = []
+    with contextlib.suppress(OSError):
+        for line in log.read_text(errors="replace").splitlines():
+            m = _STATE.search(line)
+            if m is None or m[1] == "----":
+                continue
+            states[m[1]] += 1
+            if len(seen) < examples:
+                seen.append(line[-300:])
+    return {"states": dict(states), "examples": seen}

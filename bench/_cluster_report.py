@@ -106,6 +106,9 @@ def _throughput_table(cases: dict[str, dict[str, Any]]) -> list[str]:
         )
         if run["errors"]:
             lines.append(f"    errors (resent): {run['errors']}")
+        aborts = case.get("haproxy", {}).get("states")
+        if aborts:
+            lines.append(f"    haproxy sessions not ended normally, by state: {aborts}")
     return lines
 
 

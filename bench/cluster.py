@@ -39,7 +39,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _cluster_cases import Plan, command_round_trips, live_delay, throughput
-from _cluster_infra import Infra, Setup, start_setup
+from _cluster_infra import Infra, Setup, haproxy_aborts, start_setup
 from _cluster_report import goals, render
 from _live_fleet import make_fleet
 from _live_report import relative
@@ -162,6 +162,8 @@ async def _case(name: str, infra: Infra | None, plan: Plan, stamp: str) -> dict[
         case.update(_dead(setup))
     finally:
         case["node_logs"] = [_log_tail(n.log()) for n in setup.nodes if n.log().strip()]
+        if setup.haproxy is not None:
+            case["haproxy"] = haproxy_aborts(setup.haproxy.directory / "haproxy.log")
         await asyncio.to_thread(setup.stop)
     return case
 
