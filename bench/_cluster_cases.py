@@ -48,6 +48,7 @@ class Plan:
     client_procs: int
     live_rate: int
     live_seconds: float
+    live_flush_s: float  # the paced device's SDK flush_interval
     commands: int  # most sequential commands
     command_seconds: float
     profile_s: float  # 0: no profile
@@ -225,7 +226,7 @@ async def live_delay(setup: Setup, slug: str, token: str, plan: Plan) -> dict[st
     device = ClientProc(
         "paced device",
         {"mode": "paced", "url": send.url, "token": token, "rate": plan.live_rate,
-         "seconds": plan.live_seconds, "flush_interval": 0.002, "batch_size": 1000,
+         "seconds": plan.live_seconds, "flush_interval": plan.live_flush_s, "batch_size": 1000,
          "signals": plan.signals},
     )  # fmt: skip
     async with ClientGroup([subscriber, device]) as group:

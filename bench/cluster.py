@@ -61,6 +61,9 @@ def parse_args(argv: list[str] | None) -> tuple[Plan, list[str], Path | None, bo
     p.add_argument("--signals", type=int, default=4, help="float signals a sample (4)")
     p.add_argument("--client-procs", type=int, default=2, help="processes of devices (2)")
     p.add_argument("--cases", default=",".join(CASES), help=f"subset of {','.join(CASES)}")
+    p.add_argument(
+        "--live-flush-ms", type=float, default=2.0, help="live device's SDK flush_interval (2)"
+    )
     p.add_argument("--profile-seconds", type=float, help="py-spy of node1 (10; 4 quick; 0 off)")
     p.add_argument("--json", type=Path, help="results file (default bench/results/cluster-*.json)")
     a = p.parse_args(argv)
@@ -79,6 +82,7 @@ def parse_args(argv: list[str] | None) -> tuple[Plan, list[str], Path | None, bo
         client_procs=a.client_procs,
         live_rate=1000,
         live_seconds=4.0 if a.quick else 10.0,
+        live_flush_s=a.live_flush_ms / 1000,
         commands=300 if a.quick else 1000,
         command_seconds=3.0 if a.quick else 10.0,
         profile_s=min(profile, seconds),
