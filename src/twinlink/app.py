@@ -116,9 +116,8 @@ def build_services(settings: Settings) -> Services:
     relay_bus = bus if settings.bus_url else None
     commands = CommandService(registry, stores.commands, hub, settings.command_timeout_s, relay_bus)
     vault = open_vault(settings)
-    gateway = GatewayService(
-        store, registry, vault, settings.gateway_default_twin, settings.gateway_audit_days
-    )
+    gateway = GatewayService(store, registry, vault, settings.gateway_default_twin,
+                             settings.gateway_audit_days, stores.tokens)  # fmt: skip
     last_used = LastUsed(store)  # of tokens and devices, written behind the requests
     devices = DeviceService(store, registry, last_used, settings.device_token_recheck_s)
     auth = AuthService(store, settings.session_ttl_s, last_used)

@@ -20,6 +20,7 @@ from twinlink.store.sqlite.commands import SqliteCommands
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.history import ReadLimits, SqliteHistory
 from twinlink.store.sqlite.properties import SqliteProperties
+from twinlink.store.tokens import SharedTokens
 
 
 class Shared(Protocol):
@@ -48,6 +49,9 @@ class Storage:
     # (SQLite), which runs them all, as it always did.
     leases: LeaseStore | None = None
     holder: str = field(default_factory=new_holder)  # this node's run, in the leases it holds
+    # The gateway's upstream tokens, one login among the nodes; None with one node (SQLite),
+    # whose gateway keeps its tokens in memory.
+    tokens: SharedTokens | None = None
 
     def claims(self, kind: str) -> Claims | None:
         """The leases of one kind of item this node holds; None on the embedded store."""
@@ -104,6 +108,7 @@ def postgres_storage(settings: Settings) -> Storage:
     from twinlink.store.postgres.leases import PostgresLeases
     from twinlink.store.postgres.metadata import PostgresMetadataStore
     from twinlink.store.postgres.properties import PostgresProperties
+    from twinlink.store.postgres.tokens import PostgresTokens
 
     db = PostgresDatabase(settings.store_url.get_secret_value())
     history = PostgresHistory(
@@ -129,6 +134,7 @@ def postgres_storage(settings: Settings) -> Storage:
         figures=figures,
         shared=db,
         leases=PostgresLeases(db),
+        tokens=PostgresTokens(db),
     )
 
 

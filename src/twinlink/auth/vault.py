@@ -8,6 +8,8 @@ key reveals no credential; keep the key out of backups that leave the machine.
 
 from __future__ import annotations
 
+import hashlib
+import hmac
 import os
 from pathlib import Path
 from typing import Any
@@ -27,6 +29,7 @@ class VaultError(TwinlinkError):
 class Vault:
     def __init__(self, key: bytes) -> None:
         self._fernet = Fernet(key)
+        self._mac_key = hashlib.sha256(b"twinlink fingerprint\0" + key).digest()
 
     @classmethod
     def open(cls, data_dir: Path, key: str | None) -> Vault:
@@ -52,6 +55,11 @@ class Vault:
                 "(TWINLINK_SECRET_KEY or secret.key changed); set them again"
             ) from err
         return value
+
+    def fingerprint(self, data: bytes) -> str:
+        """A keyed digest of `data`: the same on every node with this key, and, unlike a plain
+        hash, no help in guessing a weak secret in `data` to whoever reads it without the key."""
+        return hmac.new(self._mac_key, data, hashlib.sha256).hexdigest()
 
     def __repr__(self) -> str:  # never show the key
         return "Vault(<key hidden>)"

@@ -19,6 +19,7 @@ from twinlink.gateway.upstream import Pool
 from twinlink.plugins import split_secrets
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
+from twinlink.store.tokens import SharedTokens
 
 
 class GatewayService:
@@ -29,10 +30,12 @@ class GatewayService:
         vault: Vault,
         default_twin: str | None,
         audit_days: float,
+        tokens: SharedTokens | None = None,
     ) -> None:
         self.store = store
         self.registry = registry
-        self.builder = ServiceBuilder(store, vault)
+        # tokens: the upstream tokens the nodes share (None: one node, each keeps its own)
+        self.builder = ServiceBuilder(store, vault, tokens)
         self.vault = vault
         self.default_twin = default_twin
         self.pool = Pool()

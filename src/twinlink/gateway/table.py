@@ -15,7 +15,9 @@ from twinlink.domain.merge import merge_parts
 from twinlink.domain.records import ServiceRecord, TwinRecord
 from twinlink.gateway.credentials.base import Credentials
 from twinlink.gateway.credentials.methods import credentials_for, shown_auth
+from twinlink.gateway.credentials.shared import TokenShare
 from twinlink.gateway.credentials.static import NoConfig, NoCredentials
+from twinlink.gateway.credentials.token import TokenCredentials
 from twinlink.gateway.spec import (
     READ_METHODS,
     ServiceSettings,
@@ -26,6 +28,7 @@ from twinlink.gateway.spec import (
 from twinlink.gateway.upstream import Origin
 from twinlink.plugins import split_secrets
 from twinlink.store.base import MetadataStore
+from twinlink.store.tokens import SharedTokens
 
 log = logging.getLogger("twinlink.gateway")
 
@@ -154,9 +157,12 @@ class ServiceBuilder:
     """Turns stored records and document features into `Service`s, keeping each service's
     credentials object (and so its cached token) while its settings are unchanged."""
 
-    def __init__(self, store: MetadataStore, vault: Vault) -> None:
+    def __init__(
+        self, store: MetadataStore, vault: Vault, tokens: SharedTokens | None = None
+    ) -> None:
         self.store = store
         self.vault = vault
+        self.tokens = tokens  # the nodes' shared tokens; None on the embedded store
         self._credentials: dict[tuple[int, str, int], Credentials[Any]] = {}
         self.stats: dict[tuple[int, str], ServiceStats] = {}
         self.slugs: dict[int, str] = {}  # twin id -> slug, for the metrics' labels
@@ -248,6 +254,10 @@ class ServiceBuilder:
             log.exception("the %s credential method failed", settings.auth.method)
             reason = f"its {settings.auth.method} credentials failed ({type(err).__name__})"
             return NoCredentials(NoConfig()), reason
+        if self.tokens is not None and isinstance(credentials, TokenCredentials):
+            # One login among the nodes, not one per node (credentials/shared.py).
+            service = f"twin {key[0]} service {key[1]}"
+            credentials.share = TokenShare(self.tokens, self.vault, service, settings.auth)
         self._credentials[key] = credentials
         return credentials, None
 

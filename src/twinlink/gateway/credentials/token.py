@@ -4,23 +4,35 @@ The token is kept until shortly before it expires and fetched again when the ser
 answers 401. Any number of requests refused at once cause one fetch: each says which token it
 used, and only the first to ask for a refresh of that token performs it; the others share its
 outcome, a failure included (a failing login endpoint is not called once per waiting request).
+
+With a `share` (the gateway sets one when the nodes share a store), the token is also shared
+between the nodes (shared.py): a node takes the stored token when it has none or another node
+renewed it, and nodes refreshing together make one login between them.
 """
 
 from __future__ import annotations
 
 import asyncio
+import logging
 import math
 import time
 from typing import Any
 
 import httpx
 
+from twinlink.domain.errors import StorageError
 from twinlink.gateway.credentials.base import C, Credentials, Headers, RefreshError, replace_header
+from twinlink.gateway.credentials.shared import Held, TokenShare
 from twinlink.gateway.headers import is_field_value
+
+log = logging.getLogger("twinlink.gateway")
 
 # A token is renewed this long (or 10% of its life, if less) before it expires.
 EXPIRY_MARGIN_S = 10.0
 LOGIN_TIMEOUT_S = 15.0
+# How long a node waits for another node's login before it gives up on the shared token.
+SHARED_WAIT_S = LOGIN_TIMEOUT_S + 5.0
+DEFAULT_LIFE_S = 3600.0
 
 
 class TokenCredentials(Credentials[C]):
@@ -38,6 +50,8 @@ class TokenCredentials(Credentials[C]):
         self._renew_at = 0.0
         self._expires_at = 0.0
         self._lock = asyncio.Lock()
+        self.share: TokenShare | None = None  # set by the gateway when nodes share a store
+        self._sealed: bytes | None = None  # the shared token this node holds, as stored
 
     async def fetch(self) -> tuple[str, float | None]:
         """A new token and its life in seconds (None: not said); RefreshError if none."""
@@ -69,26 +83,58 @@ class TokenCredentials(Credentials[C]):
                     raise RefreshError(self.last_error)
                 return
             try:
-                token, expires_in = await self.fetch()
-                value = self.template.replace("{token}", token)
-                if not is_field_value(value):
-                    # A line break would end the header and could smuggle a request onto a
-                    # pooled connection; a character outside Latin-1 cannot be sent at all.
-                    raise RefreshError("the login endpoint sent a token that cannot go in a header")
+                if self.share is not None:
+                    await self._refresh_shared(self.share)
+                    return
+                self._keep(*await self._login())
             except RefreshError as err:
                 self.last_error = str(err)
                 self.generation += 1
                 raise
-            self._keep(value, expires_in)
 
-    def _keep(self, value: str, expires_in: float | None) -> None:
-        self._header = (self.header_name.lower().encode("latin-1"), value.encode("latin-1"))
-        life = expires_in if expires_in and expires_in > 0 else 3600.0
-        now = time.monotonic()
-        self._expires_at = now + life
-        self._renew_at = now + life - min(EXPIRY_MARGIN_S, life / 10)
-        self.generation += 1
+    async def _login(self) -> tuple[str, float, float]:
+        """A new token: its header value, when to renew it and its life, in seconds."""
+        token, expires_in = await self.fetch()
+        value = self.template.replace("{token}", token)
+        if not is_field_value(value):
+            # A line break would end the header and could smuggle a request onto a
+            # pooled connection; a character outside Latin-1 cannot be sent at all.
+            raise RefreshError("the login endpoint sent a token that cannot go in a header")
+        life = expires_in if expires_in and expires_in > 0 else DEFAULT_LIFE_S
         self.refreshes += 1
+        return value, life - min(EXPIRY_MARGIN_S, life / 10), life
+
+    async def _refresh_shared(self, share: TokenShare) -> None:
+        """The stored token if it is another than this node's and not due; else one login
+        among the nodes. Without the store (PostgreSQL away) this node logs in on its own."""
+        try:
+            held = await share.current()
+            if held is None or held.sealed == self._sealed or held.renew_in_s <= 0:
+                held = await share.refresh_once(self._sealed, self._login, SHARED_WAIT_S)
+        except StorageError as err:
+            # Logging in alone may make the other nodes' tokens invalid (some upstreams keep
+            # one token per client), but without it this service is down with the store.
+            log.warning(
+                "the gateway's shared token cannot be used (%s); this node logs in alone",
+                err,
+                extra={"event": "token_not_shared", "service": share.service},
+            )
+            self._keep(*await self._login())
+            return
+        self._adopt(held)
+
+    def _adopt(self, held: Held) -> None:
+        if held.expires_in_s <= 0:
+            raise RefreshError("the shared token expired before this node could use it")
+        self._sealed = held.sealed
+        self._keep(held.value, held.renew_in_s, held.expires_in_s)
+
+    def _keep(self, value: str, renew_in_s: float, expires_in_s: float) -> None:
+        self._header = (self.header_name.lower().encode("latin-1"), value.encode("latin-1"))
+        now = time.monotonic()
+        self._expires_at = now + expires_in_s
+        self._renew_at = now + renew_in_s
+        self.generation += 1
         self.last_error = None
 
     async def post(self, url: str, **kwargs: Any) -> httpx.Response:
