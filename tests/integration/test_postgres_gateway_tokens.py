@@ -20,6 +20,7 @@ from tests.integration._postgres import postgres_dsn as postgres_dsn
 from tests.integration._upstream import Upstream
 from tests.integration._upstream import upstream as upstream  # module fixture
 from twinlink.auth.vault import Vault
+from twinlink.gateway.credentials import token
 from twinlink.gateway.credentials.base import Headers, RefreshError
 from twinlink.gateway.credentials.login import CustomLogin, CustomLoginConfig
 from twinlink.gateway.credentials.shared import TokenShare
@@ -47,6 +48,7 @@ class Login(CustomLogin):
 def fresh_upstream(upstream: Upstream) -> Iterator[None]:
     yield
     upstream.token_endpoints_down = False
+    upstream.expires_in = 3600.0
 
 
 @pytest.fixture
@@ -206,3 +208,50 @@ async def test_another_secret_key_cannot_read_the_stored_token(
     logins = upstream.attempts["login"]
     await stranger.ready()
     assert upstream.attempts["login"] == logins + 1
+
+
+async def test_nodes_renewing_a_due_token_together_make_one_login(
+    nodes: list[PostgresTokens], vault: Vault, upstream: Upstream
+) -> None:
+    config = settings(upstream)
+    a, b = node(nodes[0], vault, config), node(nodes[1], vault, config)
+    upstream.expires_in = 1.0  # renewed 0.9 s after the login, on both nodes
+    try:
+        await a.ready()
+        await b.ready()
+    finally:
+        upstream.expires_in = 3600.0  # the renewal's token lasts
+    logins = upstream.attempts["login"]
+    async with asyncio.timeout(20):
+        while not (a.renewal_due() and b.renewal_due()):
+            await asyncio.sleep(0.05)  # until the token is due on both, with a deadline
+    await asyncio.gather(*(c.ready() for c in [a, b] * 10))
+    assert upstream.attempts["login"] == logins + 1
+    assert sent(a) == sent(b) == f"Token {upstream.all_tokens[-1]}"
+
+
+async def test_a_node_that_cannot_wait_for_another_s_login_logs_in_alone(
+    nodes: list[PostgresTokens],
+    vault: Vault,
+    upstream: Upstream,
+    postgres_dsn: str,
+    monkeypatch: pytest.MonkeyPatch,
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    monkeypatch.setattr(token, "SHARED_WAIT_S", 0.2)
+    credentials = node(nodes[0], vault, settings(upstream))
+    stuck = await asyncpg.connect(postgres_dsn)  # another node's login that never ends
+    try:
+        async with stuck.transaction():
+            await stuck.execute(
+                "SELECT pg_advisory_xact_lock(hashtextextended('gateway_tokens:' || $1, 0))",
+                SERVICE,
+            )
+            logins = upstream.attempts["login"]
+            await credentials.ready()
+    finally:
+        await stuck.close()
+    assert upstream.attempts["login"] == logins + 1
+    assert sent(credentials) == f"Token {upstream.all_tokens[-1]}"
+    [record] = [r for r in caplog.records if getattr(r, "event", "") == "token_not_shared"]
+    assert "did not finish within 0.2 s" in record.getMessage()

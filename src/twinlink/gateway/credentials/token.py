@@ -57,11 +57,14 @@ class TokenCredentials(Credentials[C]):
         """A new token and its life in seconds (None: not said); RefreshError if none."""
         raise NotImplementedError
 
+    def renewal_due(self) -> bool:
+        """No token yet, or one past the time to renew it."""
+        return self._header is None or time.monotonic() >= self._renew_at
+
     async def ready(self) -> int:
-        now = time.monotonic()
-        if self._header is not None and now < self._renew_at:
+        if not self.renewal_due():
             return self.generation
-        usable = self._header is not None and now < self._expires_at
+        usable = self._header is not None and time.monotonic() < self._expires_at
         try:
             await self.refresh(self.generation)
         except RefreshError:
