@@ -107,13 +107,24 @@ class TokenCredentials(Credentials[C]):
         self.refreshes += 1
         return value, life - min(EXPIRY_MARGIN_S, life / 10), life
 
+    async def _timed_login(self) -> tuple[str, float, float]:
+        """A login the other nodes may be waiting for (SHARED_WAIT_S at most): it ends before
+        they give up, not after each of its steps took LOGIN_TIMEOUT_S."""
+        try:
+            async with asyncio.timeout(LOGIN_TIMEOUT_S):
+                return await self._login()
+        except TimeoutError:
+            raise RefreshError(
+                f"the login endpoint did not answer within {LOGIN_TIMEOUT_S:g} s"
+            ) from None
+
     async def _refresh_shared(self, share: TokenShare) -> None:
         """The stored token if it is another than this node's and not due; else one login
         among the nodes. Without the store (PostgreSQL away) this node logs in on its own."""
         try:
             held = await share.current()
             if held is None or held.sealed == self._sealed or held.renew_in_s <= 0:
-                held = await share.refresh_once(self._sealed, self._login, SHARED_WAIT_S)
+                held = await share.refresh_once(self._sealed, self._timed_login, SHARED_WAIT_S)
         except StorageError as err:
             # Logging in alone may make the other nodes' tokens invalid (some upstreams keep
             # one token per client), but without it this service is down with the store.

@@ -6,6 +6,7 @@ get the lock and return without a login."""
 
 from __future__ import annotations
 
+import asyncio
 from datetime import datetime
 from typing import Any
 
@@ -51,6 +52,9 @@ _FAILED = (
 class PostgresTokens:
     def __init__(self, db: PostgresDatabase) -> None:
         self.db = db
+        # A refresh holds a connection for a login (or the wait for another node's), seconds
+        # when an upstream is slow: a third of the pool at most, the rest for everything else.
+        self._refreshing = asyncio.Semaphore(max(1, db.max_connections // 3))
 
     async def current(self, service: str, fingerprint: str) -> SharedToken | None:
         async with self.db.connection() as conn:
@@ -58,6 +62,12 @@ class PostgresTokens:
         return _token(row, fingerprint)
 
     async def refresh_once(
+        self, service: str, fingerprint: str, stale: bytes | None, fetch: Fetch, wait_s: float
+    ) -> SharedToken:
+        async with self._refreshing:
+            return await self._refresh_once(service, fingerprint, stale, fetch, wait_s)
+
+    async def _refresh_once(
         self, service: str, fingerprint: str, stale: bytes | None, fetch: Fetch, wait_s: float
     ) -> SharedToken:
         try:
