@@ -1,7 +1,8 @@
 """Time series in PostgreSQL (`HistoryStore`, store/history.py), for the scale-out setup.
 
-One row per value in `samples`, partitioned by time (partitions.py); each batch one
-transaction with COPY (writer.py); reads, aggregates, downsampling and exports in SQL
+One row per value in `samples`, partitioned by time (partitions.py); the batches that wait
+written together, one transaction with one COPY (group.py, batch by batch in writer.py when
+one of them fails the group); reads, aggregates, downsampling and exports in SQL
 (reads.py, aggregate.py, downsample.py, export.py); retention drops whole partitions
 (upkeep.py). Every read sees every batch whose `append` returned: it committed first.
 """
@@ -19,6 +20,7 @@ from twinlink.store.postgres.history.aggregate import aggregate
 from twinlink.store.postgres.history.budget import ReadLimits, reading
 from twinlink.store.postgres.history.downsample import downsample
 from twinlink.store.postgres.history.export import export_pieces
+from twinlink.store.postgres.history.group import GroupCommit
 from twinlink.store.postgres.history.published import PublishedMarks
 from twinlink.store.postgres.history.series import select_series
 from twinlink.store.postgres.history.writer import MAX_SIGNALS_PER_STREAM, HistoryWriter
@@ -36,6 +38,7 @@ class PostgresHistory:
     ) -> None:
         self.db = db
         self.writer = HistoryWriter(db, max_signals_per_stream)
+        self.groups = GroupCommit(self.writer)
         self.marks = PublishedMarks(db)
         self.limits = limits or ReadLimits()
 
@@ -43,11 +46,13 @@ class PostgresHistory:
         """Nothing of its own to open: the shared database is opened before it."""
 
     async def close(self) -> None:
-        """Writes the published marks still pending; the shared database is closed after."""
+        """Answers the appends queued and writes the published marks still pending; the
+        shared database is closed after."""
+        await self.groups.close()
         await self.marks.close()
 
     async def append(self, batch: SampleBatch, device_id: int | None = None) -> bool:
-        return await self.writer.append(batch, device_id)
+        return await self.groups.append(batch, device_id)
 
     async def unpublished(self, device_id: int, seq: int) -> bool:
         return await self.marks.unpublished(device_id, seq)

@@ -1,4 +1,7 @@
-"""The write side of PostgreSQL history: one batch, one transaction.
+"""The write side of PostgreSQL history, one batch in one transaction, and what group
+commit (group.py, which writes the batches that wait together) shares with it: the rows a
+batch becomes, the series and their limit, the lock order. group.py writes a group again
+batch by batch here when one of its batches failed the group's transaction.
 
 In that transaction: the rows of the batch's series are locked (in id order, so writers of
 one stream on several nodes queue instead of deadlocking), the batch's (device, seq) is
@@ -139,7 +142,7 @@ class HistoryWriter:
             self.partitions |= needed
             async with conn.transaction():
                 stream_id, ids = await self._series(conn, batch, list(by_signal))
-                if not await _lock(conn, [ids[s] for s in by_signal]):
+                if not await lock(conn, [ids[s] for s in by_signal]):
                     return None
                 if device_id is not None and batch.seq is not None:
                     status = await conn.execute(
@@ -185,26 +188,14 @@ class HistoryWriter:
         cached = self.series.get(key)
         if cached is not None and all(s in cached[1] for s in signals):
             return cached
-        stream_id = await conn.fetchval(
-            "INSERT INTO streams (twin_id, name) VALUES ($1, $2) ON CONFLICT (twin_id, name) "
-            "DO UPDATE SET name = excluded.name RETURNING id",
-            batch.twin_id, batch.stream,
-        )  # fmt: skip
-        rows = await conn.fetch("SELECT signal, id FROM series WHERE stream_id = $1", stream_id)
-        ids = {signal: sid for signal, sid in rows}
+        stream_id, ids = await stream_series(conn, key)
         new = [s for s in signals if s not in ids]
         if new:
-            self._check_limit(batch, len(ids) + len(new), new)
-            made = await conn.fetch(
-                "INSERT INTO series (stream_id, signal) SELECT $1, unnest($2::text[]) "
-                "ON CONFLICT (stream_id, signal) DO UPDATE SET signal = excluded.signal "
-                "RETURNING signal, id",
-                stream_id, new,
-            )  # fmt: skip
-            ids.update({signal: sid for signal, sid in made})
+            self.check_limit(batch, len(ids) + len(new), new)
+            ids.update(await make_series(conn, stream_id, new))
         return stream_id, ids
 
-    def _check_limit(self, batch: SampleBatch, total: int, new: list[str]) -> None:
+    def check_limit(self, batch: SampleBatch, total: int, new: list[str]) -> None:
         limit = self.max_signals_per_stream
         if total <= limit:
             return
@@ -218,7 +209,29 @@ class HistoryWriter:
         )
 
 
-async def _lock(conn: Connection, series_ids: list[int]) -> bool:
+async def stream_series(conn: Connection, key: StreamKey) -> tuple[int, dict[str, int]]:
+    """The stream's id (made when new) and the ids of the series it has."""
+    stream_id = await conn.fetchval(
+        "INSERT INTO streams (twin_id, name) VALUES ($1, $2) ON CONFLICT (twin_id, name) "
+        "DO UPDATE SET name = excluded.name RETURNING id",
+        *key,
+    )
+    rows = await conn.fetch("SELECT signal, id FROM series WHERE stream_id = $1", stream_id)
+    return stream_id, {signal: sid for signal, sid in rows}
+
+
+async def make_series(conn: Connection, stream_id: int, signals: list[str]) -> dict[str, int]:
+    """The ids of new series of the stream (another node may make them at the same time)."""
+    made = await conn.fetch(
+        "INSERT INTO series (stream_id, signal) SELECT $1, unnest($2::text[]) "
+        "ON CONFLICT (stream_id, signal) DO UPDATE SET signal = excluded.signal "
+        "RETURNING signal, id",
+        stream_id, signals,
+    )  # fmt: skip
+    return {signal: sid for signal, sid in made}
+
+
+async def lock(conn: Connection, series_ids: list[int]) -> bool:
     """Lock the series' rows in id order: writers of one stream on several nodes then queue
     on them instead of locking them in different orders (a deadlock). False when some are
     gone (the twin's history was deleted since their ids were cached)."""
