@@ -35,7 +35,7 @@ from typing import Any
 import asyncpg
 import orjson
 
-from twinlink.domain.errors import StorageError, TooManySignalsError
+from twinlink.domain.errors import StorageError, TooManySignalsError, TwinlinkError
 from twinlink.domain.samples import SampleBatch, Value
 from twinlink.store.postgres.db import Connection
 from twinlink.store.postgres.history import partitions
@@ -174,9 +174,14 @@ class GroupCommit:
         """The group's transaction failed for one of its batches: write each alone, as
         writer.py does, so that one fails and the others are stored."""
         self.fallbacks += 1
-        log.info(
+        # anything but these is a bug of the group's own: said loud, or every group would
+        # quietly go batch by batch
+        expected = isinstance(err, (_Stale, asyncpg.CheckViolationError, TwinlinkError))
+        log.log(
+            logging.INFO if expected else logging.WARNING,
             "a group of %d batches is written one at a time: %r", len(group), err,
             extra={"event": "history_group_split", "batches": len(group)},
+            exc_info=not expected,
         )  # fmt: skip
         if isinstance(err, asyncpg.CheckViolationError):
             self.writer.partitions.clear()  # one was dropped since we made it
@@ -241,7 +246,7 @@ async def _commit(conn: Connection, todo: list[_Item]) -> list[bool]:
     series_ids = sorted({sid for item in todo for sid in item.ids.values()})
     async with conn.transaction():
         if not await lock(conn, series_ids):
-            raise _Stale
+            raise _Stale("some cached series ids are gone (their history was deleted)")
         stored = await _ingest(conn, todo)
         kept = [item for item, ok in zip(todo, stored, strict=True) if ok]
         if kept:
