@@ -20,6 +20,7 @@ import asyncio
 import contextlib
 import sys
 import time
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -173,7 +174,7 @@ def _merge(results: list[dict[str, Any]], plan: Plan) -> dict[str, Any]:
         "nodes": nodes,
         "resent": sum(r["resent"] for r in results),
         "duplicates": sum(r["duplicates"] for r in results),
-        "errors": {e: n for r in results for e, n in r["errors"].items()},
+        "errors": dict(sum((Counter(r["errors"]) for r in results), Counter())),
     }
 
 
