@@ -15,8 +15,8 @@ device had acknowledged (0 lost). Then the live delay at 1 000 samples/s and the
 round trip, with the device on the second node and the subscriber or caller on the first.
 A py-spy profile of the first node during the load says where its time goes.
 
-    .venv/bin/python bench/cluster.py            # 60 s a case, about 6 minutes
-    .venv/bin/python bench/cluster.py --quick    # 10 s a case, about 2.5 minutes
+    .venv/bin/python bench/cluster.py            # 60 s a case, about 5 minutes
+    .venv/bin/python bench/cluster.py --quick    # 10 s a case, about 2 minutes
 
 Prints a table and writes JSON to bench/results/cluster-<UTC time>.json (or --json PATH).
 Exit status: 0 when every case ran and nothing acknowledged was lost; 1 when a case failed or
