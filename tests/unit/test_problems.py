@@ -63,6 +63,7 @@ PLAIN = {
     "twinlink.ingest.mqtt._wire.MalformedPacket",
     "twinlink.ingest.mqtt.packets.ProtocolViolation",
     "twinlink.processors.wire.ChannelClosed",
+    "twinlink.store.postgres.history.group._Stale",
 }
 
 

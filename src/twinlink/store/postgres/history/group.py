@@ -75,7 +75,9 @@ class _Item:
 
 
 class _Stale(Exception):
-    """Some cached series ids of the group are gone (another node deleted their history)."""
+    """Some cached series ids of the group are gone (another node deleted their history).
+    Control flow inside the writer, outside the error family: the group is written again
+    one batch at a time, and no caller ever sees it."""
 
 
 @dataclass(slots=True)
