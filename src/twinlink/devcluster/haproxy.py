@@ -196,6 +196,10 @@ defaults
     # an open WebSocket (device or browser) may be idle much longer than a request
     timeout tunnel 1h
     timeout client-fin 5s
+    # A health check's answer may take this long: /readyz answers within its own bound (1 s)
+    # however it ends, so a node busy under load is not taken out (and its sessions cut)
+    # for answering a check later than the check interval.
+    timeout check 2s
 
 frontend twinlink
     bind 127.0.0.1:{port}
