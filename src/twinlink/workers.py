@@ -162,7 +162,7 @@ class _Supervisor:
             began = loop.time()
             code = await proc.wait()
             failures = 0 if loop.time() - began > HEALTHY_S else failures + 1
-            delay = BACKOFF_S[min(failures, len(BACKOFF_S) - 1)]
+            delay = BACKOFF_S[min(max(failures - 1, 0), len(BACKOFF_S) - 1)]
             log.warning(
                 "worker %d (pid %d) ended with code %s; starting it again in %.0f s",
                 index, proc.pid, code, delay,
