@@ -112,7 +112,7 @@ class ConnectorService:
     async def open(self) -> None:
         if self.claims is not None:  # one of several nodes: it runs those whose leases it takes
             await self._rebalance()
-            self._keeper = asyncio.create_task(self._keep_leases())
+            self._keeper = asyncio.create_task(self.claims.keep(self._rebalance, self._changing))
             return
         for record in await self.store.list_connectors():
             if record.enabled:
@@ -311,16 +311,6 @@ class ConnectorService:
         """Whether this node may run the connector: always when it is the only node; on a
         shared store, when it holds (or now takes) its lease."""
         return self.claims is None or await self.claims.claim(connector_id)
-
-    async def _keep_leases(self) -> None:
-        assert self.claims is not None
-        while True:
-            await asyncio.sleep(self.claims.renew_s)
-            try:
-                async with self._changing:
-                    await self._rebalance()
-            except Exception:  # the next round tries again; the loop must not end
-                log.exception("connector leases: a round failed")
 
     async def _rebalance(self) -> None:
         """Renew the leases of the connectors this node runs and take free ones; stop what it

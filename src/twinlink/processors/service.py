@@ -87,7 +87,7 @@ class ProcessorService:
             self._host_all(await self.store.list_processors())
         else:  # one of several: it runs those whose leases it takes, now and every round
             await self._rebalance()
-            self._keeper = asyncio.create_task(self._keep_leases())
+            self._keeper = asyncio.create_task(self.claims.keep(self._rebalance, self._changing))
         # Import the installed blueprints now, off the event loop, not at the first request.
         self._spawn(asyncio.to_thread(lambda: [e.cls for e in self.catalog.values()]))
 
@@ -242,16 +242,6 @@ class ProcessorService:
         """Whether this node may run the processor: always when it is the only node; on a
         shared store, when it holds (or now takes) its lease."""
         return self.claims is None or await self.claims.claim(processor_id)
-
-    async def _keep_leases(self) -> None:
-        assert self.claims is not None
-        while True:
-            await asyncio.sleep(self.claims.renew_s)
-            try:
-                async with self._changing:
-                    await self._rebalance()
-            except Exception:  # the next round tries again; the loop must not end
-                log.exception("processor leases: a round failed")
 
     async def _rebalance(self) -> None:
         """Renew the leases of the processors this node runs and take free ones (up to

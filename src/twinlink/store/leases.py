@@ -18,12 +18,13 @@ is what a service keeps: the leases of one kind of item, by id.
 
 from __future__ import annotations
 
+import asyncio
 import logging
 import os
 import secrets
 import socket
 import time
-from collections.abc import Iterable
+from collections.abc import Awaitable, Callable, Iterable
 from typing import NamedTuple, Protocol
 
 from twinlink.domain.errors import StorageError
@@ -171,6 +172,22 @@ class Claims:
         self._renewed = time.monotonic()
         self.held = {i for i in wanted if self._name(i) in got}
         return set(self.held)
+
+    async def keep(
+        self, each_round: Callable[[], Awaitable[None]], turn: asyncio.Lock | None = None
+    ) -> None:
+        """Run `each_round` every `renew_s` (holding `turn`, when given) until cancelled; a
+        round that fails is logged and the next tries again: the loop must not end."""
+        while True:
+            await asyncio.sleep(self.renew_s)
+            try:
+                if turn is None:
+                    await each_round()
+                else:
+                    async with turn:
+                        await each_round()
+            except Exception:
+                log.exception("%s leases: a round failed", self.kind)
 
     async def claim(self, item_id: int) -> bool:
         """Take (or renew) the one lease of `item_id`: True when this node holds it."""

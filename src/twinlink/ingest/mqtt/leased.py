@@ -40,7 +40,7 @@ class LeasedBroker:
         self.status.address = str(self.broker.address)
         self.status.set_state("standby")
         await self._round()  # the first node up connects before it says it serves
-        self._keeper = asyncio.create_task(self._keep(), name="mqtt-broker-lease")
+        self._keeper = asyncio.create_task(self.claims.keep(self._round), name="mqtt-lease")
 
     async def close(self) -> None:
         if self._keeper is not None:
@@ -54,14 +54,6 @@ class LeasedBroker:
             except StorageError as err:
                 log.warning("mqtt broker lease not released (it expires): %s", err)
         self.status.set_state("stopped")
-
-    async def _keep(self) -> None:
-        while True:
-            await asyncio.sleep(self.claims.renew_s)
-            try:
-                await self._round()
-            except Exception:  # the next round tries again; the session must not be lost
-                log.exception("mqtt broker lease round failed")
 
     async def _round(self) -> None:
         held = SESSION in await self.claims.hold([SESSION])
