@@ -28,7 +28,7 @@ import orjson
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _live_client import Control, emit, stats_ms, value_pool
+from _live_client import Control, drive, emit, run, stats_ms, value_pool
 from _live_http import RawHttp
 
 PATH = "/api/v1/device/samples"
@@ -175,19 +175,8 @@ async def http_devices(cfg: dict[str, Any], ctl: Control) -> None:
 
 
 async def main() -> None:
-    ctl = Control()
-    cfg = await ctl.open()
-    try:
-        await http_devices(cfg, ctl)
-    except Exception as err:
-        emit("error", message=f"{type(err).__name__}: {err}")
-        raise SystemExit(1) from err
+    await drive(http_devices)
 
 
 if __name__ == "__main__":
-    try:
-        import uvloop
-    except ImportError:
-        asyncio.run(main())
-    else:
-        uvloop.run(main())
+    run(main)

@@ -24,7 +24,7 @@ import math
 import resource
 import sys
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any
 
 import orjson
@@ -311,19 +311,30 @@ async def main() -> None:
     from _live_steady import steady_devices, watch_twins
 
     MODES.update(steady=steady_devices, watch=watch_twins)
+    await drive(lambda cfg, ctl: MODES[cfg["mode"]](cfg, ctl))
+
+
+async def drive(mode: Callable[[Config, Control], Awaitable[None]]) -> None:
+    """A client process's life: its settings from the parent, then `mode`; a failure is
+    reported to the parent as an `error` event (and exit status 1)."""
     ctl = Control()
     cfg = await ctl.open()
     try:
-        await MODES[cfg["mode"]](cfg, ctl)
+        await mode(cfg, ctl)
     except Exception as err:
         emit("error", message=f"{type(err).__name__}: {err}")
         raise SystemExit(1) from err
 
 
-if __name__ == "__main__":
+def run(main: Callable[[], Coroutine[Any, Any, None]]) -> None:
+    """Run a client process's `main`, on uvloop when it is installed."""
     try:
         import uvloop
     except ImportError:
         asyncio.run(main())
     else:
         uvloop.run(main())
+
+
+if __name__ == "__main__":
+    run(main)
