@@ -1,0 +1,2 @@
+"""The asset library (DTaaS): reusable files and folders in scopes, in immutable
+content-addressed versions, with tags."""
