@@ -57,6 +57,7 @@ PROBLEM = "application/problem+json"
 # control flow inside one component, never shown to a person as an error of its own.
 PLAIN = {
     "twinlink.api.live._Gone",
+    "twinlink.client.errors.ApiError",
     "twinlink.bus.kafka.codec.UndecodableRecordError",
     "twinlink.domain.yamlsource._IntTooLong",
     "twinlink.domain.yamlsource._TooLarge",
