@@ -6,6 +6,9 @@ import { CatalogPage } from "./routes/CatalogPage";
 import { GatewayPage } from "./routes/GatewayPage";
 import { LoginPage } from "./routes/LoginPage";
 import { AdminPage } from "./routes/AdminPage";
+import { LibraryPage } from "./routes/LibraryPage";
+import { DeploymentsPage } from "./routes/DeploymentsPage";
+import { DeploymentPage } from "./routes/DeploymentPage";
 import { TwinPage } from "./routes/twin/TwinPage";
 import { OverviewTab } from "./routes/twin/OverviewTab";
 import { LiveTab } from "./routes/twin/LiveTab";
@@ -40,6 +43,9 @@ export function AppRoutes() {
           <Route path="processors" element={<ProcessorsTab />} />
           <Route path="document" element={<DocumentTab />} />
         </Route>
+        <Route path="library" element={<LibraryPage />} />
+        <Route path="deployments" element={<DeploymentsPage />} />
+        <Route path="deployments/:name" element={<DeploymentPage />} />
         <Route path="gateway" element={<GatewayPage />} />
         <Route path="admin" element={<AdminPage />} />
         <Route path="*" element={<main className="page"><Empty>There is no such page.</Empty></main>} />

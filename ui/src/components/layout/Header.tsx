@@ -1,5 +1,6 @@
 import { NavLink } from "react-router-dom";
 import { useAuth } from "../../auth/AuthContext";
+import { WorkspaceLink } from "./WorkspaceLink";
 
 export function Header() {
   const { me, logout } = useAuth();
@@ -10,8 +11,11 @@ export function Header() {
         <NavLink to="/" end>
           Catalog
         </NavLink>
+        <NavLink to="/library">Library</NavLink>
+        <NavLink to="/deployments">Deployments</NavLink>
         <NavLink to="/gateway">Gateway</NavLink>
         <NavLink to="/admin">{me?.is_admin ? "Admin" : "Account"}</NavLink>
+        <WorkspaceLink />
       </nav>
       <span className="spacer" />
       {me && (

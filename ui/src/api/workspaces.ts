@@ -1,0 +1,14 @@
+// The caller's JupyterLab workspace (issue 16).
+import { apiFetch } from "./client";
+
+export interface Workspace {
+  user: string;
+  state: string;
+  /** /workspaces/<user>/?ticket=...: a one-time ticket the proxy swaps for a cookie. */
+  url: string;
+}
+
+/** Start the caller's workspace (a no-op when it runs) and answer where it is. */
+export function startWorkspace(): Promise<Workspace> {
+  return apiFetch<Workspace>("/api/v1/workspaces/me", { method: "POST" });
+}

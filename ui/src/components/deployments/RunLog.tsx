@@ -1,0 +1,82 @@
+// A run's log: the whole of it, followed live over the run's WebSocket while the run is active
+// (the socket sends what was logged so far, then each chunk as it comes, then a JSON frame with
+// the end state). A finished run's log is read once; reopening the page shows all of it again.
+import { useEffect, useRef, useState } from "react";
+import { authMessage, endFrame, isActive, logSocketUrl, readLog, type Run, type RunState } from "../../api/deployments";
+import { ErrorMessage } from "../common/Status";
+
+/** The longest log text kept in the page; older text is cut (the full log stays on the server). */
+export const MAX_LOG_CHARS = 2_000_000;
+
+interface End {
+  state: RunState;
+  exit_code: number | null;
+}
+
+function useRunLog(run: Run, onEnd: () => void) {
+  const [text, setText] = useState("");
+  const [error, setError] = useState<Error | null>(null);
+  const [end, setEnd] = useState<End | null>(null);
+  const onEndRef = useRef(onEnd);
+  onEndRef.current = onEnd;
+  const active = isActive(run);
+  useEffect(() => {
+    setText("");
+    setEnd(null);
+    setError(null);
+    const controller = new AbortController();
+    const readAll = () =>
+      readLog(run.id, 0, controller.signal).then(
+        (log) => !controller.signal.aborted && setText(log.text.slice(-MAX_LOG_CHARS)),
+        (err: unknown) => !controller.signal.aborted && setError(err instanceof Error ? err : new Error(String(err))),
+      );
+    if (!active) {
+      void readAll();
+      return () => controller.abort();
+    }
+    const socket = new WebSocket(logSocketUrl(run.id));
+    socket.onopen = () => socket.send(authMessage());
+    socket.onmessage = (event: MessageEvent) => {
+      if (typeof event.data !== "string") return;
+      const frame = endFrame(event.data);
+      if (frame) {
+        setEnd(frame);
+        onEndRef.current();
+      } else setText((t) => (t + event.data).slice(-MAX_LOG_CHARS));
+    };
+    socket.onclose = (event: CloseEvent) => {
+      if (controller.signal.aborted) return;
+      // The authoritative text is the stored log: read it whole once the socket is done.
+      void readAll();
+      if (event.code !== 1000 && event.reason) setError(new Error(`The live log ended: ${event.reason}`));
+    };
+    return () => {
+      controller.abort();
+      socket.close();
+    };
+  }, [run.id, active]);
+  return { text, error, end };
+}
+
+export function RunLog({ run, onEnd }: { run: Run; onEnd: () => void }) {
+  const { text, error, end } = useRunLog(run, onEnd);
+  const box = useRef<HTMLPreElement>(null);
+  useEffect(() => {
+    const el = box.current;
+    if (el) el.scrollTop = el.scrollHeight;
+  }, [text]);
+  const state = end?.state ?? run.state;
+  const exit = end ? end.exit_code : run.exit_code;
+  return (
+    <section aria-label={`Log of run ${run.id}`} className="run-log">
+      <h4>
+        Log of {run.phase} <span className="mono">{run.id}</span>: <span className={`badge run-${state}`}>{state}</span>
+        {exit !== null && exit !== undefined && <span className="muted"> exit code {exit}</span>}
+      </h4>
+      {error && <ErrorMessage error={error} />}
+      <pre ref={box} className="proc-logs" tabIndex={0} aria-live="polite" data-testid="run-log">
+        {text || (isActive({ state }) ? "Waiting for output…" : "(no output)")}
+      </pre>
+    </section>
+  );
+}

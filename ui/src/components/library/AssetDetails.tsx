@@ -1,0 +1,166 @@
+// One asset: its metadata, its versions with their tags, a version's files, download as an
+// archive, and deleting a version (refused, with the reason, while a deployment holds it).
+import { useState } from "react";
+import {
+  deleteVersion,
+  downloadArchive,
+  formatBytes,
+  getAsset,
+  getVersion,
+  shortDigest,
+  type ArchiveFormat,
+  type VersionSummary,
+} from "../../api/library";
+import { useApi } from "../../hooks/useApi";
+import { ErrorMessage, Loading } from "../common/Status";
+import { formatEpochMs } from "../common/time";
+
+interface Props {
+  scope: string;
+  kind: string;
+  name: string;
+  /** Told when a version was deleted (the list's counts change). */
+  onChanged: () => void;
+}
+
+function Files({ scope, kind, name, digest }: { scope: string; kind: string; name: string; digest: string }) {
+  const version = useApi((signal) => getVersion(scope, kind, name, digest, signal), [scope, kind, name, digest]);
+  if (version.error) return <ErrorMessage error={version.error} onRetry={version.reload} />;
+  if (!version.data) return <Loading what="Loading the files" />;
+  return (
+    <table className="table entry-table" aria-label={`Files of ${shortDigest(digest)}`}>
+      <tbody>
+        {version.data.files.map((f) => (
+          <tr key={f.path}>
+            <td className="mono">
+              {f.path}
+              {f.executable && <span className="badge">executable</span>}
+            </td>
+            <td className="num">{formatBytes(f.size)}</td>
+            <td className="mono muted" title={f.sha256}>
+              {f.sha256.slice(0, 12)}
+            </td>
+          </tr>
+        ))}
+      </tbody>
+    </table>
+  );
+}
+
+function VersionRow({ v, open, onToggle, onDownload, onDelete }: {
+  v: VersionSummary;
+  open: boolean;
+  onToggle: () => void;
+  onDownload: (format: ArchiveFormat) => void;
+  onDelete: () => void;
+}) {
+  const short = shortDigest(v.digest);
+  return (
+    <tr className={open ? "proc-row-open" : undefined}>
+      <td className="mono" title={v.digest}>
+        {short}
+      </td>
+      <td>{v.tags.length ? v.tags.map((t) => <span key={t} className="chip">{t}</span>) : <span className="muted">none</span>}</td>
+      <td className="num">{formatBytes(v.size)}</td>
+      <td>{formatEpochMs(v.created_ns / 1e6)}</td>
+      <td>{v.created_by}</td>
+      <td className="nowrap">
+        <button type="button" className="link-button" aria-expanded={open} aria-label={`Files of ${short}`} onClick={onToggle}>
+          Files
+        </button>
+        <button type="button" className="link-button" aria-label={`Download ${short} as zip`} onClick={() => onDownload("zip")}>
+          zip
+        </button>
+        <button type="button" className="link-button" aria-label={`Download ${short} as tar.gz`} onClick={() => onDownload("tgz")}>
+          tar.gz
+        </button>
+        <button type="button" className="link-button proc-danger" aria-label={`Delete ${short}`} onClick={onDelete}>
+          Delete
+        </button>
+      </td>
+    </tr>
+  );
+}
+
+export function AssetDetails({ scope, kind, name, onChanged }: Props) {
+  const asset = useApi((signal) => getAsset(scope, kind, name, signal), [scope, kind, name]);
+  const [open, setOpen] = useState<string | null>(null);
+  const [error, setError] = useState<Error | null>(null);
+  async function attempt(fn: () => Promise<void>) {
+    setError(null);
+    try {
+      await fn();
+    } catch (err) {
+      setError(err instanceof Error ? err : new Error(String(err)));
+    }
+  }
+  function remove(v: VersionSummary) {
+    if (!window.confirm(`Delete version ${shortDigest(v.digest)} of ${scope}/${kind}/${name}? It cannot be undone.`)) return;
+    void attempt(async () => {
+      await deleteVersion(scope, kind, name, v.digest);
+      asset.reload();
+      onChanged();
+    });
+  }
+  if (asset.error && !asset.data) return <ErrorMessage error={asset.error} onRetry={asset.reload} />;
+  if (!asset.data) return <Loading />;
+  const a = asset.data;
+  return (
+    <section className="card" aria-label={`Asset ${a.ref}`}>
+      <h2>{a.ref}</h2>
+      {a.description && <p>{a.description}</p>}
+      <dl className="props">
+        <dt>Reference</dt>
+        <dd className="mono">lib:{a.ref}@latest</dd>
+        {a.author && (
+          <>
+            <dt>Author</dt>
+            <dd>{a.author}</dd>
+          </>
+        )}
+        {a.licence && (
+          <>
+            <dt>Licence</dt>
+            <dd>{a.licence}</dd>
+          </>
+        )}
+        {a.keywords.length > 0 && (
+          <>
+            <dt>Keywords</dt>
+            <dd>{a.keywords.map((k) => <span key={k} className="chip">{k}</span>)}</dd>
+          </>
+        )}
+      </dl>
+      {error && <ErrorMessage error={error} />}
+      <div className="table-scroll">
+        <table className="table" aria-label="Versions">
+          <thead>
+            <tr>
+              <th>Version</th>
+              <th>Tags</th>
+              <th className="num">Size</th>
+              <th>Pushed</th>
+              <th>By</th>
+              <th>
+                <span className="visually-hidden">Actions</span>
+              </th>
+            </tr>
+          </thead>
+          <tbody>
+            {a.versions.map((v) => (
+              <VersionRow
+                key={v.digest}
+                v={v}
+                open={open === v.digest}
+                onToggle={() => setOpen(open === v.digest ? null : v.digest)}
+                onDownload={(format) => void attempt(() => downloadArchive(scope, kind, name, v.digest, format))}
+                onDelete={() => remove(v)}
+              />
+            ))}
+          </tbody>
+        </table>
+      </div>
+      {open && <Files scope={scope} kind={kind} name={name} digest={open} />}
+    </section>
+  );
+}
