@@ -119,10 +119,18 @@ def apply_file(client: httpx.Client, path: Path) -> httpx.Response:
     return r
 
 
+def example_documents() -> list[Path]:
+    """Every example DT document: the YAML files under examples/ but the library's packages
+    (examples/library: twin.yaml and document templates, pushed to the library, not applied)."""
+    return sorted(
+        p for p in EXAMPLES.rglob("*.yaml") if p.relative_to(EXAMPLES).parts[0] != "library"
+    )
+
+
 def apply_examples(server: Server) -> None:
     """Every example document, one file per request (as `twinlink apply -f examples/` does)."""
     with server.admin as admin:
-        for path in sorted(EXAMPLES.rglob("*.yaml")):
+        for path in example_documents():
             apply_file(admin, path)
 
 

@@ -14,10 +14,9 @@ from typing import Any
 
 import pytest
 
-from tests.conftest import EXAMPLES
 from tests.integration._postgres import postgres_cluster as postgres_cluster
 from tests.integration._postgres import postgres_dsn as postgres_dsn
-from tests.integration._util import CRANE_SLUG
+from tests.integration._util import CRANE_SLUG, example_documents
 from tests.unit.test_sqlite_store import row, save, write
 from twinlink.auth.rights import Principal
 from twinlink.domain.records import SearchResult, User, Visibility
@@ -50,7 +49,7 @@ class Backends:
 async def _apply_examples(store: MetadataStore) -> User:
     admin = await store.create_user("admin", None, True, [], 1)
     registry = RegistryService(store, "http://x")
-    for path in sorted(EXAMPLES.rglob("*.yaml")):
+    for path in example_documents():
         docs = parse_documents(path.read_bytes(), "application/yaml", 10 * 2**20)
         await registry.apply(Principal(admin), docs)
     return admin

@@ -14,7 +14,7 @@ import httpx
 import pytest
 import yaml
 
-from tests.conftest import EXAMPLES, Server, start_server, stop_server
+from tests.conftest import Server, start_server, stop_server
 from tests.integration._util import (
     CRANE_SLUG,
     ILMATAR,
@@ -22,6 +22,7 @@ from tests.integration._util import (
     YAML_HEADERS,
     apply,
     assert_problem,
+    example_documents,
     get_doc,
     last_error,
     load_yaml,
@@ -52,7 +53,7 @@ def platform(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Platform]:
     try:
         slugs = []
         with server.admin as admin:
-            for path in sorted(EXAMPLES.rglob("*.yaml")):
+            for path in example_documents():
                 r = admin.post("/api/v1/apply", content=path.read_bytes(), headers=YAML_HEADERS)
                 assert r.status_code == 200, f"{path.name}: {r.text}"
                 slugs.extend(x["slug"] for x in r.json()["results"])

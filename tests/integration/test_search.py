@@ -9,7 +9,7 @@ from typing import Any
 import httpx
 import pytest
 
-from tests.conftest import EXAMPLES, Server
+from tests.conftest import Server
 from tests.integration._fixtures import no_server_errors as no_server_errors  # autouse
 from tests.integration._util import (
     CRANE_SLUG,
@@ -18,6 +18,7 @@ from tests.integration._util import (
     apply,
     apply_examples,
     assert_problem,
+    example_documents,
     load_yaml,
     make_user,
     twin_doc,
@@ -126,7 +127,7 @@ def test_name_match_outranks_a_match_in_a_feature_description(server: Server) ->
 def _example_keyword_counts() -> dict[str, int]:
     """How many example twins have a feature with each keyword (all parts, as admin sees)."""
     by_twin: dict[str, set[str]] = defaultdict(set)
-    for path in EXAMPLES.rglob("*.yaml"):
+    for path in example_documents():
         doc = load_yaml(path)
         for f in doc.get("features", []):
             by_twin[doc["id"]].update(f.get("keywords", []))

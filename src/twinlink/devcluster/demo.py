@@ -31,7 +31,15 @@ class DemoError(TwinlinkError):
 
 
 def example_files(folder: Path) -> list[Path]:
-    return sorted(p for p in folder.rglob("*") if p.suffix in (".yaml", ".yml") and p.is_file())
+    """The DT documents under `folder`; not the library's twin packages (`library/`), which
+    are templates pushed to the library, not documents."""
+    return sorted(
+        p
+        for p in folder.rglob("*")
+        if p.suffix in (".yaml", ".yml")
+        and p.is_file()
+        and "library" not in p.relative_to(folder).parts[:1]
+    )
 
 
 def load_examples(client: httpx.Client, folder: Path) -> list[str]:
