@@ -52,7 +52,7 @@ function Item({ item, mark }: { item: PlanItem; mark: string }) {
 }
 
 export function PlanView({ plan }: { plan: Plan }) {
-  const empty = SECTIONS.every(({ key }) => (plan[key] ?? []).length === 0);
+  const empty = (["create", "update", "delete"] as const).every((key) => (plan[key] ?? []).length === 0);
   return (
     <section className="card plan" aria-label="Plan">
       <p>

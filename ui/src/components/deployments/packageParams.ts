@@ -15,13 +15,22 @@ function isObject(value: unknown): value is Record<string, unknown> {
   return value !== null && typeof value === "object" && !Array.isArray(value);
 }
 
+/** A YAMLException as one line: its reason and where ("line 2, column 1"). */
+function yamlProblem(err: unknown): string {
+  const e = (err ?? {}) as { reason?: unknown; mark?: { line?: unknown; column?: unknown }; message?: unknown };
+  if (typeof e.reason === "string" && typeof e.mark?.line === "number" && typeof e.mark.column === "number") {
+    return `${e.reason} (line ${e.mark.line + 1}, column ${e.mark.column + 1})`;
+  }
+  return err instanceof Error ? err.message : String(err);
+}
+
 /** Read twin.yaml's text; an Error a person can act on when it is not a package description. */
 export function parseTwinYaml(text: string): PackageInfo {
   let doc: unknown;
   try {
     doc = load(text, { filename: "twin.yaml" });
   } catch (err) {
-    throw new Error(`twin.yaml is not valid YAML: ${err instanceof Error ? err.message : String(err)}`);
+    throw new Error(`twin.yaml is not valid YAML: ${yamlProblem(err)}`);
   }
   if (doc === undefined || doc === null) return { description: null, parameters: null };
   if (!isObject(doc)) throw new Error("twin.yaml must be a mapping (description, parameters, document, ...)");
