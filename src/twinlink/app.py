@@ -29,6 +29,7 @@ from twinlink.api import (
     twins,
 )
 from twinlink.api import connectors as connectors_api
+from twinlink.api import deployments as deployments_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import mqtt as mqtt_api
@@ -43,6 +44,8 @@ from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
 from twinlink.connectors.metrics import ConnectorCollector
 from twinlink.connectors.service import ConnectorService
+from twinlink.deploy.apply import Parts
+from twinlink.deploy.service import DeploymentService
 from twinlink.gateway.metrics import GatewayCollector
 from twinlink.gateway.proxy import GatewayApp
 from twinlink.gateway.service import GatewayService
@@ -101,6 +104,7 @@ class Services:
     mqtt: MqttService
     # Tells the other nodes of changes to what their caches hold (on a shared bus only).
     cache_sync: CacheSync | None = None
+    deployments: DeploymentService | None = None  # twin packages deployed (deploy/)
 
 
 def build_services(settings: Settings) -> Services:
@@ -122,7 +126,7 @@ def build_services(settings: Settings) -> Services:
     devices = DeviceService(store, registry, last_used, settings.device_token_recheck_s)
     auth = AuthService(store, settings.session_ttl_s, last_used)
     shared_bus = bool(settings.bus_url)  # other nodes may share the store: tell them of changes
-    return Services(
+    services = Services(
         store=store,
         auth=auth,
         registry=registry,
@@ -152,6 +156,15 @@ def build_services(settings: Settings) -> Services:
         mqtt=MqttService(settings, devices, hub, ingest, stores.claims("mqtt-broker")),
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
     )
+    services.deployments = _deployment_service(settings, services, vault)
+    return services
+
+
+def _deployment_service(settings: Settings, services: Services, vault: Vault) -> DeploymentService:
+    parts = Parts(services.registry, services.devices, services.gateway, services.processors,
+                  services.connectors, vault.fingerprint)  # fmt: skip
+    library = getattr(services, "library", None)  # the library's service (library/)
+    return DeploymentService(services.store, parts, library, vault, settings.base_url)
 
 
 def _processor_service(
@@ -240,6 +253,8 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
         started.append(services.connectors.close)
         await services.mqtt.open()
         started.append(services.mqtt.close)
+        if services.deployments is not None:  # creates a crash cut off are undone
+            await services.deployments.open()
         return await services.auth.bootstrap(
             settings.admin_token.get_secret_value() if settings.admin_token else None,
             settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -307,7 +322,7 @@ def create_app(
     app.state.readiness = Readiness(services.store, services.bus, settings.ready_timeout_s)
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors, gateway_api, connectors_api, mqtt_api)
+    routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api)
     for module in (*routers, *routers_more, search, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)

@@ -23,10 +23,11 @@ from twinlink.domain.records import (
     User,
     Visibility,
 )
+from twinlink.store.deployments import DeploymentStore
 from twinlink.store.search import SearchStore
 
 
-class MetadataStore(SearchStore, Protocol):
+class MetadataStore(SearchStore, DeploymentStore, Protocol):
     async def open(self) -> None: ...
     async def close(self) -> None: ...
     async def ping(self) -> bool: ...

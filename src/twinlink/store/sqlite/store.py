@@ -6,6 +6,7 @@ from pathlib import Path
 
 from twinlink.store.sqlite.connectors import ConnectorTables
 from twinlink.store.sqlite.db import Database
+from twinlink.store.sqlite.deployments import DeploymentTables
 from twinlink.store.sqlite.devices import DeviceTables
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.gateway import GatewayTables
@@ -23,6 +24,7 @@ class SqliteStore(
     ProcessorTables,
     GatewayTables,
     ConnectorTables,
+    DeploymentTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""

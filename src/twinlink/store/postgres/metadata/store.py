@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.metadata.connectors import ConnectorTables
+from twinlink.store.postgres.metadata.deployments import DeploymentTables
 from twinlink.store.postgres.metadata.devices import DeviceTables
 from twinlink.store.postgres.metadata.gateway import GatewayTables
 from twinlink.store.postgres.metadata.processors import ProcessorTables
@@ -21,6 +22,7 @@ class PostgresMetadataStore(
     ProcessorTables,
     GatewayTables,
     ConnectorTables,
+    DeploymentTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""

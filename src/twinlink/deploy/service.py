@@ -1,0 +1,368 @@
+"""Deployments: a twin package planned, applied all or nothing, and taken through its lifecycle
+(`planned → created → running ⇄ stopped → terminated`, `failed` for a create that was undone).
+
+Rights: deploying needs a signed-in user who may read the package; the twin is theirs (the
+owner role). A deployment is seen by whoever may see its twin (and its creator, admins); it is
+changed by the twin's owners and admins.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from twinlink.auth.rights import Principal, has_role
+from twinlink.auth.vault import Vault
+from twinlink.deploy.apply import Parts
+from twinlink.deploy.loading import Library, Loaded, Where, check_name, load, package_ref
+from twinlink.deploy.plan import Plan, canonical, plan_change, plan_create
+from twinlink.domain.deployments import DeploymentRecord
+from twinlink.domain.errors import (
+    ConflictError,
+    ForbiddenError,
+    InvalidInputError,
+    NotFoundError,
+    TwinlinkError,
+)
+from twinlink.domain.records import User
+from twinlink.store.base import MetadataStore
+
+log = logging.getLogger("twinlink.deploy")
+# Who undoes a create cut off by a crash, at the next start: nobody is signed in then.
+SYSTEM = Principal(User(id=0, username="twinlink", is_admin=True, groups=[], created_ns=0))
+
+
+class PhaseRuns(Protocol):
+    """The lifecycle runs (deploy/runs*.py): a phase's script started, or cancelled."""
+
+    async def start(self, principal: Principal, target: Any, phase: str) -> dict[str, Any]: ...
+    async def cancel_phase(self, deployment_id: int, phase: str) -> None: ...
+
+
+@dataclass(slots=True)
+class Created:
+    record: DeploymentRecord
+    plan: Plan
+    device_tokens: dict[str, str]
+
+
+class DeploymentService:
+    def __init__(
+        self,
+        store: MetadataStore,
+        parts: Parts,
+        library: Library | None,
+        vault: Vault,
+        server_url: str,
+        runs: PhaseRuns | None = None,
+    ) -> None:
+        self.store = store
+        self.parts = parts
+        self.library = library
+        self.vault = vault
+        self.server_url = server_url.rstrip("/")
+        self.runs = runs
+        # One change of deployments at a time: a plan is applied against what it read.
+        self._lock = asyncio.Lock()
+
+    async def open(self) -> None:
+        """Undo the creates a crash cut off (deployments left `applying`)."""
+        for record in await self.store.list_deployments("applying"):
+            log.warning("deployment %s was cut off while applying; undoing it", record.name,
+                        extra={"event": "deployment_recovered"})  # fmt: skip
+            await self._fail(record, "the server stopped while this deployment was applied; "
+                             "what it had made was removed at the next start")  # fmt: skip
+
+    # -- reading ---------------------------------------------------------------------------
+
+    async def list(self, principal: Principal) -> list[DeploymentRecord]:
+        return [r for r in await self.store.list_deployments() if await self._may_see(principal, r)]
+
+    async def get(self, principal: Principal, name: str) -> DeploymentRecord:
+        record = await self.store.find_deployment(name)
+        if record is None or not await self._may_see(principal, record):
+            raise NotFoundError(f"no deployment {name!r}")
+        return record
+
+    async def _may_see(self, principal: Principal, record: DeploymentRecord) -> bool:
+        if principal.is_admin or (principal.user and principal.user.id == record.created_by):
+            return True
+        try:
+            await self.parts.registry.require_twin(principal, record.twin)
+        except NotFoundError:
+            return False
+        return record.live
+
+    async def _changeable(self, principal: Principal, name: str) -> DeploymentRecord:
+        record = await self.get(principal, name)
+        if not record.live:
+            raise ConflictError(f"deployment {name!r} is {record.state}; create it again")
+        twin = await self.parts.registry.get_twin(record.twin)
+        role = await self.parts.registry.role_of(principal, twin) if twin else None
+        if not has_role(principal, role, "owner"):
+            raise ForbiddenError(f"changing deployment {name!r} needs the owner role on its twin")
+        return record
+
+    def view(self, record: DeploymentRecord, usernames: dict[int, str]) -> dict[str, Any]:
+        return {
+            "id": record.id,
+            "name": record.name,
+            "package": record.package,
+            "package_ref": record.package_ref,
+            "parameters": record.parameters,
+            "state": record.state,
+            "twin": record.twin,
+            "resources": record.resources(),
+            "created_by": usernames.get(record.created_by or -1),
+            "created_ns": record.created_ns,
+            "updated_ns": record.updated_ns,
+            "error": record.error,
+        }
+
+    # -- create ----------------------------------------------------------------------------
+
+    async def _load(self, principal: Principal, ref: str, parameters: Any, name: str) -> Loaded:
+        if self.library is None:
+            raise TwinlinkError("the library is not available on this server")
+        where = Where(name, self.parts.registry.canonical_url(name), self.server_url)
+        return await load(self.library, principal, ref, parameters, where)
+
+    async def plan(
+        self, principal: Principal, package: str, name: Any, parameters: Any, scope: str | None
+    ) -> Plan:
+        """What creating the deployment would make; nothing is stored."""
+        self._signed_in(principal)
+        name = check_name(name)
+        loaded = await self._load(principal, package_ref(package, scope), parameters, name)
+        return plan_create(loaded.resources)
+
+    async def create(
+        self,
+        principal: Principal,
+        package: str,
+        name: Any,
+        parameters: Any,
+        scope: str | None,
+        *,
+        start: bool = False,
+        planned: bool = False,
+    ) -> Created:
+        user = self._signed_in(principal)
+        name = check_name(name)
+        loaded = await self._load(principal, package_ref(package, scope), parameters, name)
+        async with self._lock:
+            await self._name_free(name)
+            now = time.time_ns()
+            record = await self.store.create_deployment(
+                DeploymentRecord(
+                    id=0,
+                    name=name,
+                    package=loaded.pinned,
+                    package_ref=package,
+                    parameters=loaded.parameters,
+                    state="planned" if planned else "applying",
+                    twin=name,
+                    created_by=user.id,
+                    created_ns=now,
+                    updated_ns=now,
+                )
+            )
+            await self._hold(record, loaded)
+            tokens: dict[str, str] = {}
+            if not planned:
+                tokens = await self._apply_create(principal, record, loaded, start)
+        return Created(record, plan_create(loaded.resources), tokens)
+
+    async def create_planned(self, principal: Principal, name: str) -> Created:
+        """Apply a deployment stored as `planned`."""
+        record = await self.get(principal, name)
+        if record.state != "planned":
+            raise ConflictError(f"deployment {name!r} is {record.state}, not planned")
+        if not (principal.is_admin or (principal.user and principal.user.id == record.created_by)):
+            raise ForbiddenError(f"only who planned {name!r} (or an admin) may create it")
+        loaded = await self._load(principal, record.package, record.parameters, name)
+        async with self._lock:
+            await self._name_free(name, twin_only=True)
+            record.state = "applying"
+            await self._save(record)
+            tokens = await self._apply_create(principal, record, loaded, start=False)
+        return Created(record, plan_create(loaded.resources), tokens)
+
+    @staticmethod
+    def _signed_in(principal: Principal) -> User:
+        if principal.user is None:
+            raise ForbiddenError("sign in to deploy twin packages")
+        return principal.user
+
+    async def _name_free(self, name: str, twin_only: bool = False) -> None:
+        existing = await self.store.find_deployment(name)
+        if not twin_only and existing is not None and existing.live:
+            raise ConflictError(f"a deployment named {name!r} exists already ({existing.state})")
+        if await self.parts.registry.get_twin(name) is not None:
+            raise ConflictError(
+                f"a twin {name!r} exists already; a deployment makes its own twin: choose "
+                "another name"
+            )
+
+    async def _hold(self, record: DeploymentRecord, loaded: Loaded) -> None:
+        if self.library is not None:
+            await self.library.hold(holder(record), [loaded.resolved, *loaded.assets.values()])
+
+    async def _apply_create(
+        self, principal: Principal, record: DeploymentRecord, loaded: Loaded, start: bool
+    ) -> dict[str, str]:
+        """Make every resource, journaled; undone whole when any step fails."""
+        tokens: dict[str, str] = {}
+        try:
+            for resource in loaded.resources:
+                token = await self.parts.make(principal, record.name, resource, running=start)
+                record.journal.append(self.parts.entry(resource))
+                if token is not None:
+                    tokens[resource.name] = token
+                    record.secrets = self.vault.seal(tokens)
+                await self._save(record)
+        except BaseException as err:
+            await self._fail(record, f"applying failed, and what was made was removed: {err}")
+            raise
+        record.state = "running" if start else "created"
+        await self._save(record)
+        await self._phase(principal, record, loaded, "create")
+        if start:
+            await self._phase(principal, record, loaded, "execute")
+        return tokens
+
+    async def _fail(self, record: DeploymentRecord, error: str) -> None:
+        async def saved() -> None:
+            await self._save(record)
+
+        await self.parts.undo(SYSTEM, record.twin, record.journal, saved)
+        record.state, record.error, record.secrets = "failed", error, None
+        await self._save(record)
+        await self._release(record)
+
+    async def _release(self, record: DeploymentRecord) -> None:
+        if self.library is not None:
+            await self.library.release(holder(record))
+
+    async def _save(self, record: DeploymentRecord) -> None:
+        record.updated_ns = time.time_ns()
+        await self.store.save_deployment(record)
+
+    async def _phase(
+        self, principal: Principal, record: DeploymentRecord, loaded: Loaded | None, phase: str
+    ) -> dict[str, Any] | None:
+        """Start a lifecycle phase's run when the package has its script (and runs are set
+        up on this server); the run goes on without the request waiting for it."""
+        if self.runs is None or loaded is None or not loaded.has_phase(phase):
+            return None
+        return await self.runs.start(principal, record, phase)
+
+    # -- lifecycle -------------------------------------------------------------------------
+
+    async def start(self, principal: Principal, name: str) -> DeploymentRecord:
+        """Enable its processors and connectors and run `execute`; started already is fine."""
+        record = await self._changeable(principal, name)
+        if record.state == "running":
+            return record
+        if record.state not in ("created", "stopped"):
+            raise ConflictError(f"deployment {name!r} is {record.state}; create it first")
+        async with self._lock:
+            await self.parts.set_running(principal, record.twin, record.journal, True)
+            record.state = "running"
+            await self._save(record)
+        await self._phase(principal, record, await self._pinned(record), "execute")
+        return record
+
+    async def stop(self, principal: Principal, name: str) -> DeploymentRecord:
+        """Disable its processors and connectors and end a running `execute`; the twin stays."""
+        record = await self._changeable(principal, name)
+        if record.state in ("stopped", "created"):
+            return record
+        if record.state != "running":
+            raise ConflictError(f"deployment {name!r} is {record.state}, not running")
+        async with self._lock:
+            if self.runs is not None:
+                await self.runs.cancel_phase(record.id, "execute")
+            await self.parts.set_running(principal, record.twin, record.journal, False)
+            record.state = "stopped"
+            await self._save(record)
+        return record
+
+    async def terminate(self, principal: Principal, name: str, purge: bool) -> DeploymentRecord:
+        """Remove what it made but the twin (its document and history stay) unless `purge`;
+        its device tokens go with its devices, its holds on library versions are released."""
+        record = await self._changeable(principal, name)
+        async with self._lock:
+            if self.runs is not None:
+                await self.runs.cancel_phase(record.id, "execute")
+            while record.journal and (purge or record.journal[-1]["type"] != "twin"):
+                entry = record.journal[-1]
+                await self.parts.remove(principal, record.twin, entry["type"], entry["name"])
+                record.journal.pop()
+                await self._save(record)
+            record.state, record.secrets = "terminated", None
+            await self._save(record)
+            await self._release(record)
+        return record
+
+    async def reconfigure(
+        self,
+        principal: Principal,
+        name: str,
+        parameters: Any,
+        package: str | None,
+        dry_run: bool,
+    ) -> Created:
+        """Change parameters (those not given are kept) and/or the package version: the plan
+        from what the deployment made to what it would make now, applied unless `dry_run`.
+        Unchanged resources are not touched; a changed processor is updated in place."""
+        record = await self._changeable(principal, name)
+        if parameters is not None and not isinstance(parameters, dict):
+            raise InvalidInputError("`parameters` is a JSON object of the parameters to change")
+        params = {**record.parameters, **(parameters or {})}
+        ref = package_ref(package, None) if package else record.package
+        loaded = await self._load(principal, ref, params, name)
+        fingerprints = {r.key: self.parts.fingerprint(canonical(r.spec)) for r in loaded.resources}
+        plan = plan_change(record.journal, loaded.resources, fingerprints)
+        if dry_run or record.state == "planned":
+            if not dry_run:
+                record.package, record.parameters = loaded.pinned, loaded.parameters
+                record.package_ref = package or record.package_ref
+                await self._save(record)
+            return Created(record, plan, {})
+        async with self._lock:
+
+            async def saved() -> None:
+                await self._save(record)
+
+            running = record.state == "running"
+            tokens = await self.parts.apply_plan(
+                principal, record.twin, plan, record.journal, running, saved
+            )
+            if tokens:
+                record.secrets = self.vault.seal({**self.device_tokens(record), **tokens})
+            record.package, record.parameters = loaded.pinned, loaded.parameters
+            record.package_ref = package or record.package_ref
+            await self._save(record)
+            await self._release(record)
+            await self._hold(record, loaded)
+        return Created(record, plan, tokens)
+
+    async def _pinned(self, record: DeploymentRecord) -> Loaded | None:
+        """The deployment's package as it was deployed, for its lifecycle phases (read with
+        the server's rights: the version is pinned and held for the deployment)."""
+        if self.runs is None:
+            return None
+        return await self._load(SYSTEM, record.package, record.parameters, record.name)
+
+    def device_tokens(self, record: DeploymentRecord) -> dict[str, str]:
+        """The deployment's device tokens (for its lifecycle runs); never answered by the API."""
+        return self.vault.unseal(record.secrets) if record.secrets else {}
+
+
+def holder(record: DeploymentRecord) -> str:
+    """The name a deployment holds library versions by."""
+    return f"deployment:{record.id}"
