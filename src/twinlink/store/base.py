@@ -24,10 +24,11 @@ from twinlink.domain.records import (
     Visibility,
 )
 from twinlink.store.deployments import DeploymentStore
+from twinlink.store.library import LibraryStore
 from twinlink.store.search import SearchStore
 
 
-class MetadataStore(SearchStore, DeploymentStore, Protocol):
+class MetadataStore(SearchStore, DeploymentStore, LibraryStore, Protocol):
     async def open(self) -> None: ...
     async def close(self) -> None: ...
     async def ping(self) -> bool: ...

@@ -10,6 +10,7 @@ from twinlink.store.sqlite.deployments import DeploymentTables
 from twinlink.store.sqlite.devices import DeviceTables
 from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.gateway import GatewayTables
+from twinlink.store.sqlite.library import LibraryTables
 from twinlink.store.sqlite.processors import ProcessorTables
 from twinlink.store.sqlite.search import SearchTables
 from twinlink.store.sqlite.twins import TwinTables
@@ -25,6 +26,7 @@ class SqliteStore(
     GatewayTables,
     ConnectorTables,
     DeploymentTables,
+    LibraryTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""

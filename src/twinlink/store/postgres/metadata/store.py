@@ -8,6 +8,7 @@ from twinlink.store.postgres.metadata.connectors import ConnectorTables
 from twinlink.store.postgres.metadata.deployments import DeploymentTables
 from twinlink.store.postgres.metadata.devices import DeviceTables
 from twinlink.store.postgres.metadata.gateway import GatewayTables
+from twinlink.store.postgres.metadata.library import LibraryTables
 from twinlink.store.postgres.metadata.processors import ProcessorTables
 from twinlink.store.postgres.metadata.search import SearchTables
 from twinlink.store.postgres.metadata.twins import TwinTables
@@ -23,6 +24,7 @@ class PostgresMetadataStore(
     GatewayTables,
     ConnectorTables,
     DeploymentTables,
+    LibraryTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""
