@@ -55,9 +55,12 @@ from twinlink.ingest.mqtt import MqttService
 from twinlink.ingest.mqtt.metrics import MqttCollector
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
+from twinlink.library.blobs import FileBlobStore
+from twinlink.library.rights import LibraryRights
+from twinlink.library.service import LibraryService
 from twinlink.live import LiveHub
 from twinlink.metrics import DataPlaneCollector, Metrics, MetricsMiddleware
-from twinlink.processors.fmus import FmuService
+from twinlink.processors.fmus import FmuService, inspect_upload
 from twinlink.processors.metrics import ProcessorCollector
 from twinlink.processors.service import ProcessorService
 from twinlink.registry.devices import DeviceService
@@ -104,6 +107,7 @@ class Services:
     mqtt: MqttService
     # Tells the other nodes of changes to what their caches hold (on a shared bus only).
     cache_sync: CacheSync | None = None
+    library: LibraryService | None = None
     deployments: DeploymentService | None = None  # twin packages deployed (deploy/)
 
 
@@ -155,6 +159,7 @@ def build_services(settings: Settings) -> Services:
         ),
         mqtt=MqttService(settings, devices, hub, ingest, stores.claims("mqtt-broker")),
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
+        library=_library_service(settings, store),
     )
     services.deployments = _deployment_service(settings, services, vault)
     return services
@@ -187,6 +192,14 @@ def _processor_service(
         stores.claims("processor"),
         stores.history,  # a processor starting on a shared store catches up from it
     )
+
+
+def _library_service(settings: Settings, store: MetadataStore) -> LibraryService:
+    rights = LibraryRights(settings.library_curators, settings.fmu_uploaders)
+    blobs = FileBlobStore(settings.data_dir / "library" / "blobs")
+    # FMUs pushed to the library are checked as twins' uploads are (the library does not
+    # import the processors: it is handed their check).
+    return LibraryService(store, blobs, settings.library_max_mb * 2**20, rights, inspect_upload)
 
 
 def open_vault(settings: Settings) -> Vault:

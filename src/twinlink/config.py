@@ -157,6 +157,17 @@ class Settings(BaseSettings):
         description="Who may upload and delete FMUs: admins, or also editors of the twin. An "
         "FMU is native code that runs in a worker process under the server's user.",
     )
+    library_max_mb: int = Field(
+        1024,
+        gt=0,
+        description="Largest library push, in MB: the upload and its unpacked files each.",
+    )
+    library_curators: str = Field(
+        "curators",
+        min_length=1,
+        description="The user group whose members (besides admins) write the library's common "
+        "scope.",
+    )
     secret_key: SecretStr | None = Field(
         None,
         description="Key (Fernet, 44 URL-safe base64 characters) that encrypts the gateway's "

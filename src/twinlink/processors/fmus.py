@@ -77,7 +77,7 @@ class FmuService:
         temp = Path(temp_name)
         try:
             digest, size = await self._receive(fd, body)
-            info = await asyncio.to_thread(_inspect, temp)
+            info = await asyncio.to_thread(inspect_upload, temp)
             os.replace(temp, folder / name)
         finally:
             temp.unlink(missing_ok=True)
@@ -131,7 +131,8 @@ class FmuService:
         return twin
 
 
-def _inspect(path: Path) -> dict[str, Any]:
+def inspect_upload(path: Path) -> dict[str, Any]:
+    """Check an uploaded FMU (a twin's, or one pushed to the library) and describe it."""
     # FMPy is imported at the first upload, not when the server starts.
     from twinlink.processors.fmuinfo import FmuError, inspect_fmu
 

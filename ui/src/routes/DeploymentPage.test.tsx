@@ -1,0 +1,125 @@
+import { afterEach, describe, expect, it, vi } from "vitest";
+import { act, render, screen, within } from "@testing-library/react";
+import userEvent from "@testing-library/user-event";
+import { MemoryRouter, Route, Routes } from "react-router-dom";
+import { setToken } from "../api/client";
+import { jsonResponse, mockFetch, problem } from "../test/fetch";
+import { DeploymentPage, transitionsOf } from "./DeploymentPage";
+
+afterEach(() => vi.unstubAllGlobals());
+
+/** A WebSocket the test speaks for: what the page sent, and frames pushed to it. */
+class FakeSocket {
+  static all: FakeSocket[] = [];
+  sent: string[] = [];
+  closed = false;
+  onopen: (() => void) | null = null;
+  onmessage: ((e: { data: unknown }) => void) | null = null;
+  onclose: ((e: { code: number; reason: string }) => void) | null = null;
+  constructor(readonly url: string) {
+    FakeSocket.all.push(this);
+  }
+  send(data: string) {
+    this.sent.push(data);
+  }
+  close() {
+    this.closed = true;
+  }
+  open() {
+    act(() => this.onopen?.());
+  }
+  push(data: string) {
+    act(() => this.onmessage?.({ data }));
+  }
+  end() {
+    act(() => this.onclose?.({ code: 1000, reason: "" }));
+  }
+}
+
+const deployment = (state: string) => ({
+  id: "d1", name: "rig-a", package: `lib:common/twins/tingen-rig@sha256:${"a".repeat(64)}`, package_ref: "tingen-rig@1.0.0",
+  parameters: { zeta: 0.9 }, state, twin: "rig-a", resources: { twin: "rig-a", devices: ["tingenSAP"], processors: ["fmu"], connectors: [], services: [] },
+  created_by: "admin", created_ns: 1.7e18, updated_ns: 1.7e18, error: null,
+});
+const run = (id: string, phase: string, state: string, exit_code: number | null) => ({
+  id, deployment: "rig-a", phase, state, exit_code, started_by: "admin", created_ns: 1.7e18, started_ns: 1.7e18, ended_ns: state === "running" ? null : 1.7e18, node: "n1", error: null,
+});
+
+function setup() {
+  setToken("tl_x");
+  FakeSocket.all = [];
+  vi.stubGlobal("WebSocket", FakeSocket);
+  let state = "running";
+  const fetch = mockFetch((url, init) => {
+    if (url === "/api/v1/deployments/rig-a") return jsonResponse(deployment(state));
+    if (url === "/api/v1/deployments/rig-a/runs" && init?.method === "POST") return problem(403, "only admins may start runs (script_runners is admins)");
+    if (url === "/api/v1/deployments/rig-a/runs") return jsonResponse({ runs: [run("r2", "execute", "running", null), run("r1", "analyze", "failed", 3)] });
+    if (url === "/api/v1/deployments/rig-a/stop" && init?.method === "POST") {
+      state = "stopped";
+      return jsonResponse(deployment(state));
+    }
+    if (url === "/api/v1/runs/r1/log?offset=0") return new Response("reading history\nno samples\n", { headers: { "X-Run-State": "failed" } });
+    if (url === "/api/v1/runs/r2/log?offset=0") return new Response("started\nstep 1\nstep 2\n", { headers: { "X-Run-State": "succeeded" } });
+    return problem(404, `unexpected ${url}`);
+  });
+  render(
+    <MemoryRouter initialEntries={["/deployments/rig-a"]} future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
+      <Routes>
+        <Route path="/deployments/:name" element={<DeploymentPage />} />
+      </Routes>
+    </MemoryRouter>,
+  );
+  return fetch;
+}
+
+describe("DeploymentPage", () => {
+  it("follows the active run's log over its WebSocket, the token in the first message", async () => {
+    setup();
+    const runs = await screen.findByRole("table", { name: "Runs" });
+    expect(within(runs).getAllByRole("row")).toHaveLength(3);
+    await vi.waitFor(() => expect(FakeSocket.all).toHaveLength(1));
+    const socket = FakeSocket.all[0]!;
+    expect(socket.url).toBe("ws://localhost:3000/api/v1/runs/r2/log/ws");
+    socket.open();
+    expect(socket.sent).toEqual([JSON.stringify({ op: "auth", token: "tl_x" })]);
+    socket.push("started\n");
+    socket.push("step 1\n");
+    const log = screen.getByTestId("run-log");
+    expect(log).toHaveTextContent("started step 1");
+    socket.push('{"state": "succeeded", "exit_code": 0}');
+    expect(screen.getByRole("region", { name: "Log of run r2" })).toHaveTextContent("succeeded exit code 0");
+    socket.end();
+    // Once the socket is done, the stored log is the text shown: all of it.
+    await vi.waitFor(() => expect(log).toHaveTextContent("started step 1 step 2"));
+  });
+
+  it("reads a finished run's whole log when it is opened", async () => {
+    setup();
+    const runs = await screen.findByRole("table", { name: "Runs" });
+    await userEvent.click(within(runs).getByRole("button", { name: "Log of analyze run r1" }));
+    const shown = await screen.findByRole("region", { name: "Log of run r1" });
+    await vi.waitFor(() => expect(within(shown).getByTestId("run-log")).toHaveTextContent("reading history no samples"));
+    expect(shown).toHaveTextContent("failed exit code 3");
+  });
+
+  it("stops a running deployment, and shows why a run was refused", async () => {
+    const fetch = setup();
+    await userEvent.click(await screen.findByRole("button", { name: "Stop" }));
+    expect(await screen.findByRole("button", { name: "Start" })).toBeInTheDocument();
+    expect(fetch.mock.calls.some(([u, i]) => String(u) === "/api/v1/deployments/rig-a/stop" && i?.method === "POST")).toBe(true);
+    await userEvent.selectOptions(screen.getByLabelText("Run phase"), "evolve");
+    await userEvent.click(screen.getByRole("button", { name: "Run" }));
+    expect(await screen.findByRole("alert")).toHaveTextContent("(403): only admins may start runs");
+    const sent = fetch.mock.calls.find(([u, i]) => String(u) === "/api/v1/deployments/rig-a/runs" && i?.method === "POST");
+    expect(JSON.parse(String(sent![1]!.body))).toEqual({ phase: "evolve" });
+  });
+
+  it("offers the transitions each state allows", () => {
+    expect(transitionsOf("planned")).toEqual(["create", "terminate"]);
+    expect(transitionsOf("created")).toEqual(["start", "terminate"]);
+    expect(transitionsOf("running")).toEqual(["stop", "terminate"]);
+    expect(transitionsOf("stopped")).toEqual(["start", "terminate"]);
+    expect(transitionsOf("terminated")).toEqual([]);
+    expect(transitionsOf("failed")).toEqual([]);
+  });
+});
