@@ -14,13 +14,16 @@ from twinlink.cli.cluster import cluster
 from twinlink.cli.commands import commands, properties, send
 from twinlink.cli.common import HelpGroup
 from twinlink.cli.connectors import connectors
+from twinlink.cli.deploy import deploy
 from twinlink.cli.gateway import audit, service_accounts, services
 from twinlink.cli.history import history
+from twinlink.cli.library import lib
 from twinlink.cli.processors import blueprints, fmus, processors
 from twinlink.cli.search import search
 from twinlink.cli.server import demo, up
 from twinlink.cli.session import login, logout
 from twinlink.cli.simulate import simulate
+from twinlink.client import ApiError
 from twinlink.config import ConfigError
 
 
@@ -31,7 +34,7 @@ class _Group(HelpGroup):
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
-        except (ApiCallError, ConfigError) as err:
+        except (ApiCallError, ApiError, ConfigError) as err:
             raise click.ClickException(str(err)) from err
 
 
@@ -82,6 +85,8 @@ COMMANDS: tuple[click.Command, ...] = (
     services,
     audit,
     service_accounts,
+    lib,
+    deploy,
 )
 for _command in COMMANDS:
     main.add_command(_command)

@@ -71,19 +71,39 @@ class Library:
         scope/kind/name; `{asset, version, created}` (created is false when a version with
         the same content exists: it is tagged, not copied)."""
         source = Path(path)
-        target = AssetRef(kind, name, scope)
-        query: list[tuple[str, str]] = [("tag", tag) for tag in tags]
         if source.is_dir():
             files = _tar.folder_files(source)
-            if not files:
-                raise ValueError(f"{source} holds no files")
-            body = _tar.pack(files)
-            query.append(("format", "tar"))
-        elif source.is_file():
-            body = _file_chunks(source)
-            query += [("format", "file"), ("filename", source.name)]
-        else:
+            return self.push_files(
+                files, kind=kind, name=name, scope=scope, tags=tags, description=description
+            )
+        if not source.is_file():
             raise FileNotFoundError(f"{source} is neither a file nor a folder")
+        query = [("format", "file"), ("filename", source.name), *(("tag", t) for t in tags)]
+        return self._push(AssetRef(kind, name, scope), query, _file_chunks(source), description)
+
+    def push_files(
+        self,
+        files: list[tuple[str, Path]],
+        *,
+        kind: str,
+        name: str,
+        scope: str = "me",
+        tags: Iterable[str] = (),
+        description: str | None = None,
+    ) -> dict[str, Any]:
+        """Push (path in the version, local file) pairs as one version, streamed as tar."""
+        if not files:
+            raise ValueError("there are no files to push")
+        query = [("format", "tar"), *(("tag", t) for t in tags)]
+        return self._push(AssetRef(kind, name, scope), query, _tar.pack(files), description)
+
+    def _push(
+        self,
+        target: AssetRef,
+        query: list[tuple[str, str]],
+        body: Iterator[bytes],
+        description: str | None,
+    ) -> dict[str, Any]:
         answer = dict(self._t.json("POST", f"{target.base}/versions", params=query, content=body))
         if description is not None:
             answer["asset"] = self.update(target, description=description)
