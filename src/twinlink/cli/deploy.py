@@ -180,7 +180,7 @@ def deploy_update(
             name, parse_parameters(params), package=package, dry_run=dry_run
         )
     print_plan(answer["plan"])
-    if "deployment" in answer:
+    if not dry_run:
         click.echo(_line(answer))
 
 
