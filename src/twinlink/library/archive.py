@@ -110,6 +110,9 @@ async def _spool(
                 await asyncio.to_thread(write, pending)
                 pending, pending_size = [], 0
         await asyncio.to_thread(write, pending)
+        if hashed:  # the spool is the blob: durable before the version naming it is committed
+            out.flush()
+            await asyncio.to_thread(os.fsync, out.fileno())
     if size == 0:
         raise InvalidInputError("the upload is empty: send the archive (or the file) as the body")
     return digest.hexdigest(), size
