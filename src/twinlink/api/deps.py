@@ -30,7 +30,8 @@ async def optional_principal(request: Request, credentials: Bearer) -> Principal
             raise AuthError("the Authorization header must be 'Bearer <token>'")
         return ANONYMOUS
     auth: AuthService = request.app.state.services.auth
-    return await auth.authenticate(credentials.credentials)
+    # A scoped token (a run's) is checked against the request's path (auth/scopes.py).
+    return await auth.authenticate(credentials.credentials, (request.method, request.url.path))
 
 
 async def principal(

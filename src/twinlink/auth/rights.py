@@ -19,6 +19,7 @@ class Principal:
 
     user: User | None
     token_id: int | None = None
+    scope: str | None = None  # a scoped token's (auth/scopes.py): a run's `twin:<slug>`
 
     @property
     def is_admin(self) -> bool:

@@ -15,6 +15,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from twinlink.auth import scopes
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.rights import Principal
 from twinlink.auth.secrets import (
@@ -41,6 +42,10 @@ TOKEN_CACHE_S = 30.0
 TOKEN_CACHE_LIMIT = 10_000
 # Expiry times are int64 ns (they end in 2262); a century is more than any token needs.
 MAX_TOKEN_LIFETIME_S = 100 * 365 * 24 * 3600
+# A run's token expires after this even if its run never ended (a server killed mid-run,
+# whose next start fails the run but cannot know its token): a run longer than a year is
+# not a lifecycle phase.
+RUN_TOKEN_MAX_S = 366 * 24 * 3600
 
 
 class AuthError(TwinlinkError):
@@ -50,6 +55,15 @@ class AuthError(TwinlinkError):
 
     def problem_detail(self) -> str:
         return f"{self}. Send a valid token as 'Authorization: Bearer <token>'."
+
+
+class ScopeError(AuthError):
+    """A scoped token (a lifecycle run's) used outside its scope (auth/scopes.py)."""
+
+    status = 403
+
+    def problem_detail(self) -> str:
+        return f"{self}."
 
 
 class LoginError(AuthError):
@@ -161,7 +175,9 @@ class AuthService:
                 await self._store_token(admin.id, "preset", admin_token, "api", None)
         return created
 
-    async def authenticate(self, token: str) -> Principal:
+    async def authenticate(self, token: str, request: tuple[str, str] | None = None) -> Principal:
+        """The caller of `token`, used for `request` (method, path): a scoped token is refused
+        (ScopeError) on a path outside its scope, and wherever no request is given."""
         found = await self._find_token(hash_token(token))
         if found is None:
             raise AuthError("the token is not valid")
@@ -173,11 +189,13 @@ class AuthService:
             raise AuthError("the token has expired")
         if user.disabled:
             raise AuthError("the user is disabled")
+        if record.scope is not None and (why := scopes.refusal(record.scope, request)):
+            raise ScopeError(why)
         # In memory only (the cached record too): the store gets it later, in a batch, and a
         # store that cannot take it (a full disk) never fails the request.
         record.last_used_ns = now
         self.last_used.token_used(record.id, now)
-        return Principal(user=user, token_id=record.id)
+        return Principal(user=user, token_id=record.id, scope=record.scope)
 
     async def login(self, username: str, password: str) -> IssuedToken:
         user = await self.store.get_user_by_name(username)
@@ -204,11 +222,39 @@ class AuthService:
         return IssuedToken(token, record)
 
     async def _store_token(
-        self, user_id: int, name: str, token: str, kind: str, expires_ns: int | None
+        self,
+        user_id: int,
+        name: str,
+        token: str,
+        kind: str,
+        expires_ns: int | None,
+        scope: str | None = None,
     ) -> ApiToken:
         return await self.store.create_token(
-            user_id, name, hash_token(token), token_prefix(token), kind, now_ns(), expires_ns
+            user_id,
+            name,
+            hash_token(token),
+            token_prefix(token),
+            kind,
+            now_ns(),
+            expires_ns,
+            scope=scope,
         )
+
+    async def issue_run_token(self, user_id: int, name: str, scope: str) -> IssuedToken:
+        """A lifecycle run's token: `user_id`'s rights within `scope` (auth/scopes.py), kind
+        `run`, until revoke_run_token (a run ends) or RUN_TOKEN_MAX_S at most."""
+        user = await self.store.get_user(user_id)
+        if user is None or user.disabled:
+            raise ForbiddenError(f"user {user_id} (the deployment's owner) cannot run scripts")
+        token = new_token()
+        expires = now_ns() + RUN_TOKEN_MAX_S * 1_000_000_000
+        record = await self._store_token(user.id, name, token, "run", expires, scope)
+        return IssuedToken(token, record)
+
+    async def revoke_run_token(self, token_id: int) -> None:
+        with self._changing():
+            await self.store.revoke_token(token_id, now_ns())
 
     async def revoke_token(self, principal: Principal, token_id: int) -> None:
         record = await self.store.get_token(token_id)

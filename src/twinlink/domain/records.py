@@ -33,6 +33,7 @@ class ApiToken:
     last_used_ns: int | None
     revoked_ns: int | None
     kind: str = "api"
+    scope: str | None = None  # a scoped token's (auth/scopes.py), e.g. a run's `twin:<slug>`
 
 
 @dataclass(slots=True)

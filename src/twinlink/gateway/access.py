@@ -5,7 +5,7 @@ caller may not see is 404 before anything else, as everywhere in the API."""
 from __future__ import annotations
 
 from twinlink.auth.rights import Principal, has_role
-from twinlink.auth.service import AuthError, AuthService
+from twinlink.auth.service import AuthError, AuthService, ScopeError
 from twinlink.domain.errors import ForbiddenError, NotFoundError
 from twinlink.gateway import paths
 from twinlink.gateway.exchange import GatewayProblem, Scope
@@ -13,11 +13,13 @@ from twinlink.gateway.service import GatewayService
 from twinlink.gateway.table import Service
 
 
-async def caller_of(auth: AuthService, token: str | None) -> Principal:
+async def caller_of(auth: AuthService, token: str | None, scope: Scope) -> Principal:
     if not token:
         raise GatewayProblem(401, "a token is required: send 'Authorization: Bearer <token>'")
-    try:
-        return await auth.authenticate(token)
+    try:  # a scoped token (a run's) is checked against the path here (auth/scopes.py)
+        return await auth.authenticate(token, (scope.get("method", "GET"), scope["path"]))
+    except ScopeError as err:
+        raise GatewayProblem(403, str(err)) from err
     except AuthError as err:
         raise GatewayProblem(
             401, f"{err}. Send a valid token as 'Authorization: Bearer <token>'."

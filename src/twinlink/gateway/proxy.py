@@ -64,7 +64,7 @@ class GatewayApp:
         ex.twin = route.twin or self.gateway.default_twin or ""
         service: Service | None = None
         try:
-            principal = await caller_of(self.auth, bearer(scope))
+            principal = await caller_of(self.auth, bearer(scope), scope)
             ex.caller = principal.user.username if principal.user else "-"
             need = "viewer" if method in READ_METHODS else "editor"
             service = await resolve(self.gateway, principal, route, need)

@@ -57,7 +57,7 @@ async def forward_websocket(
     query, query_token = paths.strip_query_param(scope["query_string"], b"access_token")
     service: Service | None = None
     try:
-        principal = await caller_of(auth, bearer(scope) or query_token)
+        principal = await caller_of(auth, bearer(scope) or query_token, scope)
         ex.caller = principal.user.username if principal.user else "-"
         service = await resolve(gateway, principal, route, "editor")
         upstream = await _open(scope, route, service, query, ex)

@@ -34,7 +34,9 @@ class Row(Protocol):
 
 
 USER_COLUMNS = "id, username, password_hash, is_admin, groups_json, disabled, created_ns"
-TOKEN_COLUMNS = "id, user_id, name, prefix, kind, created_ns, expires_ns, last_used_ns, revoked_ns"
+TOKEN_COLUMNS = (
+    "id, user_id, name, prefix, kind, created_ns, expires_ns, last_used_ns, revoked_ns, scope"
+)
 
 DEVICE_COLUMNS = (
     "d.id, d.twin_id, t.slug, d.name, d.description, d.prefix, d.created_ns, d.last_seen_ns"
@@ -92,6 +94,7 @@ def token_of(row: Row) -> ApiToken:
         expires_ns=row["expires_ns"],
         last_used_ns=row["last_used_ns"],
         revoked_ns=row["revoked_ns"],
+        scope=row["scope"],
     )
 
 

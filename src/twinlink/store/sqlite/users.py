@@ -104,12 +104,14 @@ class UserTables:
         kind: str,
         now_ns: int,
         expires_ns: int | None,
+        *,
+        scope: str | None = None,
     ) -> ApiToken:
         def _create(c: sqlite3.Connection) -> ApiToken:
             cur = c.execute(
                 "INSERT INTO api_tokens(user_id, name, token_hash, prefix, kind, created_ns,"
-                " expires_ns) VALUES (?, ?, ?, ?, ?, ?, ?)",
-                (user_id, name, token_hash, prefix, kind, now_ns, expires_ns),
+                " expires_ns, scope) VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (user_id, name, token_hash, prefix, kind, now_ns, expires_ns, scope),
             )
             row = c.execute(
                 f"SELECT {TOKEN_COLUMNS} FROM api_tokens WHERE id = ?", (cur.lastrowid,)

@@ -97,12 +97,15 @@ class UserTables:
         kind: str,
         now_ns: int,
         expires_ns: int | None,
+        *,
+        scope: str | None = None,
     ) -> ApiToken:
         async with self.db.transaction() as conn:
             row = await conn.fetchrow(
                 "INSERT INTO api_tokens (user_id, name, token_hash, prefix, kind, created_ns,"
-                f" expires_ns) VALUES ($1, $2, $3, $4, $5, $6, $7) RETURNING {TOKEN_COLUMNS}",
-                user_id, name, token_hash, prefix, kind, now_ns, expires_ns,
+                f" expires_ns, scope) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)"
+                f" RETURNING {TOKEN_COLUMNS}",
+                user_id, name, token_hash, prefix, kind, now_ns, expires_ns, scope,
             )  # fmt: skip
         assert row is not None
         return token_of(row)
