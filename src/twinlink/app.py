@@ -168,8 +168,7 @@ def build_services(settings: Settings) -> Services:
 def _deployment_service(settings: Settings, services: Services, vault: Vault) -> DeploymentService:
     parts = Parts(services.registry, services.devices, services.gateway, services.processors,
                   services.connectors, vault.fingerprint)  # fmt: skip
-    library = getattr(services, "library", None)  # the library's service (library/)
-    return DeploymentService(services.store, parts, library, vault, settings.base_url)
+    return DeploymentService(services.store, parts, services.library, vault, settings.base_url)
 
 
 def _processor_service(
