@@ -124,7 +124,24 @@ async def _view(
         user = await service.store.get_user(user_id)
         if user is not None:
             names[user_id] = user.username
-    return [service.view(r, names) for r in records]
+    return [_deployment(r, names) for r in records]
+
+
+def _deployment(record: DeploymentRecord, usernames: dict[int, str]) -> dict[str, Any]:
+    return {
+        "id": record.id,
+        "name": record.name,
+        "package": record.package,
+        "package_ref": record.package_ref,
+        "parameters": record.parameters,
+        "state": record.state,
+        "twin": record.twin,
+        "resources": record.resources(),
+        "created_by": usernames.get(record.created_by or -1),
+        "created_ns": record.created_ns,
+        "updated_ns": record.updated_ns,
+        "error": record.error,
+    }
 
 
 async def _applied(service: DeploymentService, made: Created, status: int = 200) -> JSONAnswer:

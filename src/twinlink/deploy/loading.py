@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Protocol
 
 from twinlink.auth.rights import Principal
@@ -25,6 +26,7 @@ class Library(Protocol):
     async def read_text(self, resolved: Any, path: str, max_bytes: int = 1 << 20) -> str: ...
     async def hold(self, holder: str, resolved: Iterable[Any]) -> None: ...
     async def release(self, holder: str) -> None: ...
+    async def materialize(self, resolved: Any, dest: Path) -> None: ...
 
 
 @dataclass(slots=True)
@@ -47,6 +49,14 @@ class Loaded:
 
     def has_phase(self, phase: str) -> bool:
         return f"lifecycle/{phase}" in self.files
+
+    def phases(self) -> frozenset[str]:
+        """The lifecycle scripts the package has (lifecycle/<phase>)."""
+        return frozenset(
+            path.removeprefix("lifecycle/")
+            for path in self.files
+            if path.startswith("lifecycle/") and path.count("/") == 1
+        )
 
 
 def package_ref(package: str, scope: str | None) -> str:

@@ -19,6 +19,8 @@ from twinlink.auth.vault import Vault
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.loading import Library, Loaded, Where, check_name, load, package_ref
 from twinlink.deploy.plan import Plan, canonical, plan_change, plan_create
+from twinlink.deploy.runs import RunTarget
+from twinlink.deploy.targets import run_target
 from twinlink.domain.deployments import DeploymentRecord
 from twinlink.domain.errors import (
     ConflictError,
@@ -36,10 +38,12 @@ SYSTEM = Principal(User(id=0, username="twinlink", is_admin=True, groups=[], cre
 
 
 class PhaseRuns(Protocol):
-    """The lifecycle runs (deploy/runs*.py): a phase's script started, or cancelled."""
+    """The lifecycle runs (deploy/runs.py's RunService): a phase's script started, or
+    cancelled, and who may start one."""
 
-    async def start(self, principal: Principal, target: Any, phase: str) -> dict[str, Any]: ...
-    async def cancel_phase(self, deployment_id: int, phase: str) -> None: ...
+    def check_may_run(self, principal: Principal, owner_id: int | None) -> None: ...
+    async def start(self, principal: Principal, target: RunTarget, phase: str) -> Any: ...
+    async def cancel_phase(self, deployment_id: int, phase: str) -> Any: ...
 
 
 @dataclass(slots=True)
@@ -106,22 +110,6 @@ class DeploymentService:
             raise ForbiddenError(f"changing deployment {name!r} needs the owner role on its twin")
         return record
 
-    def view(self, record: DeploymentRecord, usernames: dict[int, str]) -> dict[str, Any]:
-        return {
-            "id": record.id,
-            "name": record.name,
-            "package": record.package,
-            "package_ref": record.package_ref,
-            "parameters": record.parameters,
-            "state": record.state,
-            "twin": record.twin,
-            "resources": record.resources(),
-            "created_by": usernames.get(record.created_by or -1),
-            "created_ns": record.created_ns,
-            "updated_ns": record.updated_ns,
-            "error": record.error,
-        }
-
     # -- create ----------------------------------------------------------------------------
 
     async def _load(self, principal: Principal, ref: str, parameters: Any, name: str) -> Loaded:
@@ -153,6 +141,8 @@ class DeploymentService:
         user = self._signed_in(principal)
         name = check_name(name)
         loaded = await self._load(principal, package_ref(package, scope), parameters, name)
+        if not planned:
+            self._may_run_phases(principal, user.id, loaded, "create", *(["execute"] * start))
         async with self._lock:
             await self._name_free(name)
             now = time.time_ns()
@@ -184,6 +174,7 @@ class DeploymentService:
         if not (principal.is_admin or (principal.user and principal.user.id == record.created_by)):
             raise ForbiddenError(f"only who planned {name!r} (or an admin) may create it")
         loaded = await self._load(principal, record.package, record.parameters, name)
+        self._may_run_phases(principal, record.created_by, loaded, "create")
         async with self._lock:
             await self._name_free(name, twin_only=True)
             record.state = "applying"
@@ -253,12 +244,40 @@ class DeploymentService:
 
     async def _phase(
         self, principal: Principal, record: DeploymentRecord, loaded: Loaded | None, phase: str
-    ) -> dict[str, Any] | None:
+    ) -> None:
         """Start a lifecycle phase's run when the package has its script (and runs are set
         up on this server); the run goes on without the request waiting for it."""
-        if self.runs is None or loaded is None or not loaded.has_phase(phase):
-            return None
-        return await self.runs.start(principal, record, phase)
+        if self.runs is None or self.library is None or loaded is None:
+            return
+        if loaded.has_phase(phase):
+            target = run_target(self.library, record, loaded, self.device_tokens(record))
+            await self.runs.start(principal, target, phase)
+
+    def _may_run_phases(
+        self, principal: Principal, owner_id: int | None, loaded: Loaded, *phases: str
+    ) -> None:
+        """Refuse before anything is made when a phase the request starts may not run."""
+        if self.runs is not None and any(loaded.has_phase(p) for p in phases):
+            self.runs.check_may_run(principal, owner_id)
+
+    async def run_phase(self, principal: Principal, name: str, phase: str) -> Any:
+        """Start a run of any phase of the deployment's package (POST .../runs); the run."""
+        record = await self.get(principal, name)
+        if self.runs is None or self.library is None:
+            raise TwinlinkError("lifecycle runs are not set up on this server")
+        if not record.live or record.state == "planned":
+            raise ConflictError(f"deployment {name!r} is {record.state}: it has nothing to run")
+        loaded = await self._load(SYSTEM, record.package, record.parameters, record.name)
+        target = run_target(self.library, record, loaded, self.device_tokens(record))
+        return await self.runs.start(principal, target, phase)
+
+    async def target_of(self, deployment_id: int) -> RunTarget:
+        """The run target of a deployment (a run queued on another node is rebuilt so)."""
+        record = await self.store.get_deployment(deployment_id)
+        if record is None or self.library is None:
+            raise NotFoundError(f"no deployment {deployment_id}")
+        loaded = await self._load(SYSTEM, record.package, record.parameters, record.name)
+        return run_target(self.library, record, loaded, self.device_tokens(record))
 
     # -- lifecycle -------------------------------------------------------------------------
 
@@ -269,11 +288,14 @@ class DeploymentService:
             return record
         if record.state not in ("created", "stopped"):
             raise ConflictError(f"deployment {name!r} is {record.state}; create it first")
+        loaded = await self._pinned(record)
+        if loaded is not None:
+            self._may_run_phases(principal, record.created_by, loaded, "execute")
         async with self._lock:
             await self.parts.set_running(principal, record.twin, record.journal, True)
             record.state = "running"
             await self._save(record)
-        await self._phase(principal, record, await self._pinned(record), "execute")
+        await self._phase(principal, record, loaded, "execute")
         return record
 
     async def stop(self, principal: Principal, name: str) -> DeploymentRecord:
