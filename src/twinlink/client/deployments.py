@@ -117,19 +117,19 @@ class Deployments:
         """Every run of the deployment, newest first."""
         return list(self._t.json("GET", f"/api/v1/deployments/{name}/runs")["runs"])
 
-    def get_run(self, run_id: str) -> dict[str, Any]:
+    def get_run(self, run_id: int | str) -> dict[str, Any]:
         return dict(self._t.json("GET", f"/api/v1/runs/{run_id}"))
 
-    def cancel(self, run_id: str) -> dict[str, Any]:
+    def cancel(self, run_id: int | str) -> dict[str, Any]:
         response = self._t.request("POST", f"/api/v1/runs/{run_id}/cancel")
         return dict(response.json()) if response.content else {}
 
-    def logs(self, run_id: str, offset: int = 0) -> str:
+    def logs(self, run_id: int | str, offset: int = 0) -> str:
         """The run's log as stored so far (all of it once the run has finished)."""
         response = self._t.request("GET", f"/api/v1/runs/{run_id}/log", params={"offset": offset})
         return response.text
 
-    def follow(self, run_id: str, out: Writer | None = None) -> dict[str, Any]:
+    def follow(self, run_id: int | str, out: Writer | None = None) -> dict[str, Any]:
         """Write the run's log to `out` as it comes, from its start, until the run ends;
         returns the last message: `{"state", "exit_code"}`."""
         from websockets.exceptions import InvalidStatus, WebSocketException
