@@ -10,6 +10,7 @@ from twinlink.domain.errors import ConflictError, InvalidInputError
 from twinlink.domain.records import ProcessorRecord
 from twinlink.processors.blueprint import BlueprintError
 from twinlink.processors.catalog import Entry
+from twinlink.processors.libref import checkable
 from twinlink.processors.spec import ProcessorSpec
 
 
@@ -25,7 +26,7 @@ def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSp
     if entry.cls is None:
         raise InvalidInputError(f"blueprint {spec.blueprint!r} is broken: {entry.error}")
     try:
-        entry.cls.check(entry.cls.Params.model_validate(spec.params))
+        entry.cls.check(entry.cls.Params.model_validate(checkable(spec.params)))
     except ValidationError as err:
         raise InvalidInputError("params: " + first_errors(err)) from err
     except BlueprintError as err:

@@ -28,9 +28,11 @@ from twinlink.domain.errors import (
 )
 from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
 from twinlink.ingest.service import IngestService
+from twinlink.library.service import LibraryService
 from twinlink.processors.catalog import Entry, discover
 from twinlink.processors.checks import check_chain, checked_spec, spec_of
 from twinlink.processors.hosting import Hosted, save_positions, subscribed
+from twinlink.processors.libref import LibraryFmus
 from twinlink.processors.outputs import Outputs
 from twinlink.processors.spec import ProcessorSpec
 from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
@@ -56,6 +58,7 @@ class ProcessorService:
         max_running: int = 64,
         claims: Claims | None = None,
         history: HistoryReadStore | None = None,
+        library: LibraryService | None = None,
     ) -> None:
         self.store = store
         self.registry = registry
@@ -77,14 +80,18 @@ class ProcessorService:
         # processors before a stop must not start again what the stop just ended.
         self._changing = asyncio.Lock()
         self.outputs = Outputs(ingest)
+        self.lib = LibraryFmus(library)  # FMUs of the library (`fmu: lib:...`, libref.py)
         registry.deleted_listeners.append(self._twins_deleted)
 
     # -- lifecycle --------------------------------------------------------------------------
 
     async def open(self) -> None:
         self.catalog = await asyncio.to_thread(discover, self.blueprints_dir)
+        records = await self.store.list_processors()
+        await self.lib.open(records)
         if self.claims is None:  # the only node: it runs every enabled processor
-            self._host_all(await self.store.list_processors())
+            await self.lib.prepare([r for r in records if r.enabled])
+            self._host_all(records)
         else:  # one of several: it runs those whose leases it takes, now and every round
             await self._rebalance()
             self._keeper = asyncio.create_task(self.claims.keep(self._rebalance, self._changing))
@@ -127,6 +134,7 @@ class ProcessorService:
     async def create(self, principal: Principal, slug: str, body: dict[str, Any]) -> dict[str, Any]:
         twin = await self._editable(principal, slug)
         spec = self._checked(body)
+        pinned = await self.lib.pin(principal, spec.params)  # a library FMU, pinned
         existing = await self.store.list_processors(twin.id)
         if any(r.name == spec.name for r in existing):
             raise ConflictError(f"the twin already has a processor {spec.name!r}")
@@ -139,7 +147,9 @@ class ProcessorService:
                 twin.id, spec.name, spec.blueprint, spec.stored(), spec.enabled, user_id,
                 time.time_ns(),
             )  # fmt: skip
+            await self.lib.hold(record, pinned)
             if record.enabled and await self._may_run(record.id):
+                await self.lib.prepare([record])
                 self._host(record)
         return self.view(record)
 
@@ -154,6 +164,8 @@ class ProcessorService:
             raise InvalidInputError("a processor cannot be renamed; create a new one")
         merged = {**current.model_dump(mode="json"), **changes}
         spec = self._checked(merged)
+        new_fmu = spec.params.get("fmu") != current.params.get("fmu")
+        pinned = await self.lib.pin(principal, spec.params) if new_fmu else None
         others = [r for r in await self.store.list_processors(record.twin_id) if r.id != record.id]
         check_chain(spec, others)
         if spec.enabled and record.id not in self.hosted:
@@ -164,6 +176,8 @@ class ProcessorService:
             record.spec, record.enabled = spec.stored(), spec.enabled
             record.blueprint = spec.blueprint
             record.modified_ns = now  # as stored: other rounds see no change made elsewhere
+            if new_fmu:  # what it used before is no longer held by it
+                await self.lib.hold(record, pinned)
             kept = await self._apply(record, current, spec)
         return {**self.view(record), "kept_state": kept}
 
@@ -191,6 +205,7 @@ class ProcessorService:
         async with self._changing:
             await self._unhost(record.id)
             await self.store.delete_processor(record.id)
+            await self.lib.release([record.id])
             await self._forget_position(record.id)
 
     async def events(
@@ -255,6 +270,7 @@ class ProcessorService:
         keep = [pid for pid in enabled if pid in self.hosted]
         more = [pid for pid in sorted(enabled) if pid not in self.hosted]
         held = await self.claims.hold(keep + more[: max(0, self.max_running - len(keep))])
+        await self.lib.prepare([enabled[pid] for pid in held if pid not in self.hosted])
         for pid in [pid for pid in self.hosted if pid not in held]:
             await self._unhost(pid)
             if pid not in enabled:  # disabled or deleted, not taken over: start anew later
@@ -305,6 +321,8 @@ class ProcessorService:
             await hosted.stop()
 
     async def _apply(self, record: ProcessorRecord, old: ProcessorSpec, new: ProcessorSpec) -> bool:
+        if new.enabled:  # its library FMU's file (if it uses one), found before it starts
+            await self.lib.prepare([record])
         hosted = self.hosted.get(record.id)
         if hosted is None or not new.enabled or new.source != old.source:
             await self._unhost(record.id)
@@ -320,15 +338,17 @@ class ProcessorService:
 
     def _worker_config(self, record: ProcessorRecord, entry: Entry | None) -> WorkerConfig:
         spec = spec_of(record)
+        files = self.data_dir / "fmus" / str(record.twin_id)
+        params, files = self.lib.worker_files(record.id, spec.params, files)
         return WorkerConfig(
             processor_id=record.id,
             name=record.name,
             twin=record.twin_slug,
             ref=entry.ref if entry else {},
-            params=spec.params,
+            params=params,
             inputs={k: v.model_dump() for k, v in spec.input_maps().items()},
             rates=spec.rates.model_dump(),
-            files=self.data_dir / "fmus" / str(record.twin_id),
+            files=files,
             workdir=self.data_dir / "processors" / str(record.id),
             memory_limit_bytes=spec.memory_limit_mb * 2**20,
             batch_timeout_s=spec.batch_timeout_s,
@@ -379,6 +399,7 @@ class ProcessorService:
         gone = [pid for pid, h in self.hosted.items() if h.record.twin_id in twin_ids]
         for pid in gone:
             self._spawn(self._unhost(pid))
+        self._spawn(self.lib.release(self.lib.of_twins(twin_ids)))
 
     # -- checks -----------------------------------------------------------------------------
 

@@ -1,0 +1,165 @@
+"""Processor params that name an FMU in the library: `fmu: lib:models/tingen-beam@1.0.0`.
+
+At create (and at an update that changes it) the reference is resolved with the rights of the
+person making the change, checked against the FMI description the library kept when the
+version was pushed (`version.meta["fmus"][path]`), and stored *pinned*
+(`lib:common/models/tingen-beam@sha256:...#tingen.fmu`): a tag moved later does not change a
+processor that exists. The version is held as `processor:<id>` while the processor uses it,
+so it cannot be deleted under it. The worker is given the blob's local file, as it is given
+a twin's uploaded FMU: the blueprint sees a folder and a plain file name.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Any
+
+from twinlink.auth.rights import Principal
+from twinlink.domain.errors import InvalidInputError, NotFoundError, TwinlinkError
+from twinlink.domain.library import parse_ref
+from twinlink.domain.records import ProcessorRecord
+from twinlink.library.service import LibraryService, Resolved
+
+log = logging.getLogger("twinlink.processors")
+
+SCHEME = "lib:"
+PARAM = "fmu"  # the one processor param that may be a library reference
+
+
+def lib_ref(params: dict[str, Any]) -> str | None:
+    """The library reference `params` give as their FMU, if they give one."""
+    value = params.get(PARAM)
+    return value if isinstance(value, str) and value.startswith(SCHEME) else None
+
+
+def holder(processor_id: int) -> str:
+    return f"processor:{processor_id}"
+
+
+def checkable(params: dict[str, Any]) -> dict[str, Any]:
+    """`params` with a library reference as the plain file name the blueprint will be given,
+    so the blueprint's own checks (a plain file name) apply to the rest of them."""
+    ref = lib_ref(params)
+    if ref is None:
+        return params
+    try:
+        path = parse_ref(ref).path
+    except TwinlinkError:
+        path = None
+    return {**params, PARAM: Path(path).name if path else "library.fmu"}
+
+
+def check_variables(params: dict[str, Any], info: dict[str, Any], where: str) -> None:
+    """Refuse inputs, outputs and parameters the FMU does not have (422 naming them)."""
+    names = {str(v.get("name")) for v in info.get("variables", [])}
+    asked = {
+        "inputs": params.get("inputs") or [],
+        "outputs": params.get("outputs") or [],
+        "parameters": list(params.get("parameters") or {}),
+    }
+    for what, wanted in asked.items():
+        unknown = [n for n in wanted if n not in names]
+        if unknown:
+            valid = ", ".join(sorted(names)[:20]) + (" ..." if len(names) > 20 else "")
+            raise InvalidInputError(
+                f"params.{what}: {where} has no variable {', '.join(unknown)} (it has: {valid})"
+            )
+
+
+class LibraryFmus:
+    """The library FMUs of the processors: pinned at create, held while used, and their local
+    files found (off the hot path) before a worker starts."""
+
+    def __init__(self, library: LibraryService | None) -> None:
+        self.library = library
+        self._files: dict[int, Path] = {}  # processor id -> the blob its worker runs
+        self._twins: dict[int, int] = {}  # processor id -> its twin, for those using one
+
+    async def open(self, records: list[ProcessorRecord]) -> None:
+        self._twins = {r.id: r.twin_id for r in records if lib_ref(_params(r)) is not None}
+
+    async def pin(self, principal: Principal, params: dict[str, Any]) -> Resolved | None:
+        """Resolve the params' library FMU for `principal` and check them against it; the
+        params then name it pinned (changed in place). None when they name no library FMU."""
+        ref = lib_ref(params)
+        if ref is None:
+            return None
+        if self.library is None:
+            raise InvalidInputError("params.fmu: this server has no asset library")
+        try:
+            resolved = await self.library.resolve(principal, ref, kind="models")
+        except NotFoundError as err:  # the processor is there to be made: its input is wrong
+            raise InvalidInputError(f"params.fmu: {err}") from err
+        if resolved.path is None:
+            raise InvalidInputError(f"params.fmu: {ref} names no file; add #<path of the .fmu>")
+        info = resolved.version.meta.get("fmus", {}).get(resolved.path)
+        if not isinstance(info, dict):
+            raise InvalidInputError(
+                f"params.fmu: {resolved.path} of {resolved.pinned} is not an FMU the library "
+                "checked at push (push it as a .fmu file)"
+            )
+        check_variables(params, info, resolved.pinned)
+        params[PARAM] = resolved.pinned
+        return resolved
+
+    async def hold(self, record: ProcessorRecord, resolved: Resolved | None) -> None:
+        """Hold what the processor now uses, and nothing it used before."""
+        await self.release([record.id])
+        if resolved is not None and self.library is not None:
+            await self.library.hold(holder(record.id), [resolved])
+            self._twins[record.id] = record.twin_id
+
+    async def release(self, processor_ids: list[int]) -> None:
+        for pid in processor_ids:
+            self._files.pop(pid, None)
+            if self.library is not None and self._twins.pop(pid, None) is not None:
+                await self.library.release(holder(pid))
+
+    def of_twins(self, twin_ids: list[int]) -> list[int]:
+        """The processors of these twins that hold library FMUs (deleted with their twins)."""
+        return [pid for pid, twin in self._twins.items() if twin in twin_ids]
+
+    async def prepare(self, records: list[ProcessorRecord]) -> None:
+        """Find the local files of the processors' pinned library FMUs before their workers
+        start. Each was resolved with its creator's rights when it was pinned, and is held
+        since: it is looked up here without a person's rights."""
+        for record in records:
+            ref = lib_ref(_params(record))
+            self._files.pop(record.id, None)
+            if ref is not None and self.library is not None:
+                try:
+                    self._files[record.id] = await self._local(self.library, ref)
+                except TwinlinkError as err:  # its worker then fails to start, saying so
+                    log.warning(
+                        "processor %s/%s: its library FMU %s is not available: %s",
+                        record.twin_slug, record.name, ref, err,
+                    )  # fmt: skip
+
+    @staticmethod
+    async def _local(library: LibraryService, ref: str) -> Path:
+        parsed = parse_ref(ref)
+        if parsed.scope is None or parsed.kind is None or parsed.ref is None:
+            raise InvalidInputError(f"{ref} is not pinned")
+        asset = await library.store.get_asset(parsed.scope, parsed.kind, parsed.name)
+        if asset is None:
+            raise NotFoundError(f"the library has no {parsed.scope}/{parsed.kind}/{parsed.name}")
+        version = await library.version_of(asset, parsed.ref)
+        return await library.file_path(Resolved(asset, version, parsed.path))
+
+    def worker_files(
+        self, processor_id: int, params: dict[str, Any], files: Path
+    ) -> tuple[dict[str, Any], Path]:
+        """The params and the files folder the worker is given: for a library FMU, the blob's
+        folder and its file name; else as they are."""
+        if lib_ref(params) is None:
+            return params, files
+        local = self._files.get(processor_id)
+        if local is None:  # not found (logged when looked for): the worker says it is missing
+            return {**params, PARAM: "library-fmu-not-available.fmu"}, files
+        return {**params, PARAM: local.name}, local.parent
+
+
+def _params(record: ProcessorRecord) -> dict[str, Any]:
+    params = record.spec.get("params")
+    return params if isinstance(params, dict) else {}
