@@ -33,6 +33,7 @@ from twinlink.api import deployments as deployments_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import mqtt as mqtt_api
+from twinlink.api import workspaces as workspaces_api
 from twinlink.api.readiness import Readiness
 from twinlink.auth.last_used import LastUsed
 from twinlink.auth.service import AuthService, Bootstrap
@@ -69,6 +70,9 @@ from twinlink.search import SearchService
 from twinlink.store.base import MetadataStore
 from twinlink.store.commands import CommandStore, PropertyStore
 from twinlink.store.history import HistoryStore
+from twinlink.workspaces.library import materializer
+from twinlink.workspaces.proxy import WorkspaceProxy
+from twinlink.workspaces.service import WorkspaceService, WorkspaceSettings
 
 log = logging.getLogger("twinlink.app")
 
@@ -109,6 +113,7 @@ class Services:
     cache_sync: CacheSync | None = None
     library: LibraryService | None = None
     deployments: DeploymentService | None = None  # twin packages deployed (deploy/)
+    workspaces: WorkspaceService | None = None  # each user's JupyterLab (workspaces/)
 
 
 def build_services(settings: Settings) -> Services:
@@ -162,6 +167,7 @@ def build_services(settings: Settings) -> Services:
         library=_library_service(settings, store),
     )
     services.deployments = _deployment_service(settings, services, vault)
+    services.workspaces = _workspace_service(settings, services)
     return services
 
 
@@ -197,6 +203,17 @@ def _processor_service(
         stores.claims("processor"),
         stores.history,  # a processor starting on a shared store catches up from it
     )
+
+
+def _workspace_service(settings: Settings, services: Services) -> WorkspaceService:
+    config = WorkspaceSettings(
+        settings.workspaces_enabled, settings.data_dir / "workspaces", settings.base_url,
+        settings.workspace_idle_s, settings.workspace_memory_mb,
+        settings.workspace_start_timeout_s, settings.max_workspaces,
+    )  # fmt: skip
+    fill = materializer(services.library) if services.library is not None else None
+    shared = services.storage_shared is not None
+    return WorkspaceService(config, services.auth, fill, shared_store=shared)
 
 
 def _library_service(settings: Settings, store: MetadataStore) -> LibraryService:
@@ -273,6 +290,9 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
         started.append(services.mqtt.close)
         if services.deployments is not None:  # creates a crash cut off are undone
             await services.deployments.open()
+        if services.workspaces is not None:  # tokens a crash left are revoked
+            await services.workspaces.open()
+            started.append(services.workspaces.close)
         return await services.auth.bootstrap(
             settings.admin_token.get_secret_value() if settings.admin_token else None,
             settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -294,6 +314,8 @@ async def _stop_started(started: list[Callable[[], Awaitable[object]]]) -> None:
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    if services.workspaces is not None:  # their JupyterLabs stop, their tokens are revoked
+        await services.workspaces.close()
     await services.mqtt.close()  # waits for batches in flight and sends their PUBACKs
     await services.connectors.close()
     await services.gateway.close()
@@ -341,7 +363,7 @@ def create_app(
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
     routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api)
-    for module in (*routers, *routers_more, search, pages, app_ui):
+    for module in (*routers, *routers_more, workspaces_api, search, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)
@@ -400,9 +422,11 @@ def _lifespan(
     return lifespan
 
 
-def outermost(app: FastAPI) -> GatewayApp:
+def outermost(app: FastAPI) -> WorkspaceProxy:
     """The app to serve: gateway paths go straight to the proxy, in front of FastAPI's own
     middleware stack (error pages, body limits, telemetry), which cost a forwarded request
     about 60 us for nothing it uses; everything else goes to `app`."""
     services: Services = app.state.services
-    return GatewayApp(app, services.gateway, services.auth)
+    gateway = GatewayApp(app, services.gateway, services.auth)
+    assert services.workspaces is not None
+    return WorkspaceProxy(gateway, services.workspaces, services.auth)  # /workspaces/{user}/

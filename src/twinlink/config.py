@@ -244,6 +244,36 @@ class Settings(BaseSettings):
         description="Folder of the built web app served at /app/ "
         "[the package's twinlink/web/app, written by `npm run build` in ui/].",
     )
+    workspaces_enabled: bool = Field(
+        True,
+        description="Whether users may start a JupyterLab workspace of their own, run by the "
+        "server and reached at /workspaces/{user}/ (docs/workspaces.md).",
+    )
+    workspace_idle_s: int = Field(
+        3600,
+        ge=1,
+        description="A workspace with no traffic through its proxy for this many seconds is "
+        "stopped (its files are kept).",
+    )
+    workspace_memory_mb: int = Field(
+        4096,
+        ge=0,
+        description="Address-space limit of a workspace's JupyterLab and of each of its kernels, "
+        "in MB (0: none).",
+    )
+    workspace_start_timeout_s: float = Field(
+        60,
+        gt=0,
+        le=600,
+        description="How long starting a workspace may take; past it, it is stopped and shown "
+        "failed.",
+    )
+    max_workspaces: int = Field(
+        16,
+        ge=1,
+        description="Workspaces that may run at once on this server (each is a JupyterLab of "
+        "about 100 MB plus its kernels); starting one more answers 409.",
+    )
 
     @field_validator("mqtt_broker_url")
     @classmethod

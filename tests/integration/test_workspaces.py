@@ -1,0 +1,162 @@
+"""Workspaces end to end: a real server runs real JupyterLabs, reached through its proxy by
+their owners alone (issue 16, section 4). The workspaces of the module's users are shared by
+its tests (each takes seconds to start)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import httpx
+import pytest
+
+from tests.conftest import Server, start_server, stop_server
+from tests.integration._util import assert_problem, make_user, poll_until
+from tests.integration._workspaces import COOKIE, lab_processes, open_link, run_code, start
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    srv = start_server(tmp_path_factory.mktemp("data"))
+    try:
+        yield srv
+    finally:
+        stop_server(srv)
+
+
+@pytest.fixture(scope="module")
+def users(server: Server) -> dict[str, str]:
+    return {name: make_user(server, name) for name in ("alice", "bob")}
+
+
+@pytest.fixture(scope="module")
+def sessions(server: Server, users: dict[str, str]) -> dict[str, str]:
+    """alice's and bob's workspaces started, each with its session cookie."""
+    found = {}
+    for name, token in users.items():
+        body = start(server, token)
+        assert body["url"].startswith(f"/workspaces/{name}/?ticket=")
+        found[name], _ = open_link(server, body["url"])
+    return found
+
+
+def cookie(session: str) -> dict[str, str]:
+    return {"Cookie": f"{COOKIE}={session}"}
+
+
+def test_the_link_sets_a_strict_cookie_scoped_to_the_workspace(
+    server: Server, users: dict[str, str], sessions: dict[str, str]
+) -> None:
+    body = start(server, users["alice"])  # idempotent: the same workspace, a new link
+    session, r = open_link(server, body["url"])
+    assert r.headers["location"] == "/workspaces/alice/"  # the ticket left out
+    attributes = {a.strip().lower() for a in r.headers["set-cookie"].split(";")[1:]}
+    assert {"path=/workspaces/alice/", "httponly", "samesite=strict"} <= attributes
+    with server.client() as c:
+        status = c.get("/workspaces/alice/api/status", headers=cookie(session))
+        assert status.status_code == 200, status.text
+        assert "started" in status.json()
+        lab = c.get("/workspaces/alice/lab", headers=cookie(session))
+        assert lab.status_code == 200 and "JupyterLab" in lab.text
+        again = c.get(body["url"])  # a ticket is good once
+    assert_problem(again, 403)
+
+
+def test_nobody_else_reaches_a_workspace(
+    server: Server, users: dict[str, str], sessions: dict[str, str]
+) -> None:
+    status = "/workspaces/alice/api/status"
+    with server.client() as c:
+        assert_problem(c.get(status), 403)  # no cookie
+        assert_problem(c.get(status, headers=cookie(sessions["bob"])), 403)
+        assert_problem(c.get(status, headers=cookie("made-up")), 403)
+        kernels = c.post("/workspaces/alice/api/kernels", json={}, headers=cookie(sessions["bob"]))
+        assert_problem(kernels, 403)
+        bob_link = start(server, users["bob"])["url"]  # bob's ticket at alice's address
+        assert_problem(c.get(bob_link.replace("/bob/", "/alice/")), 403)
+    with server.client(users["bob"]) as c:
+        assert_problem(c.get(status), 403)  # bob's platform token
+        assert c.post("/api/v1/workspaces/alice").status_code == 405  # no way to start hers
+        assert_problem(c.delete("/api/v1/workspaces/alice"), 403)
+    with server.client(users["alice"]) as c:  # her own token works, for scripts
+        assert c.get(status).status_code == 200
+        assert c.get("/api/v1/workspaces/me").json()["state"] == "running"
+
+
+def test_a_change_from_another_site_is_refused(server: Server, sessions: dict[str, str]) -> None:
+    headers = {**cookie(sessions["alice"]), "Origin": "http://evil.example"}
+    with server.client() as c:
+        assert_problem(c.post("/workspaces/alice/api/kernels", json={}, headers=headers), 403)
+
+
+def test_a_kernel_runs_code_over_the_proxied_websocket(
+    server: Server, users: dict[str, str], sessions: dict[str, str]
+) -> None:
+    headers = cookie(sessions["alice"])
+    with server.client() as c:
+        r = c.post("/workspaces/alice/api/kernels", json={}, headers=headers)
+    assert r.status_code == 201, r.text
+    ws_url = (
+        server.url.replace("http://", "ws://")
+        + f"/workspaces/alice/api/kernels/{r.json()['id']}/channels"
+    )
+    code = (
+        "import os, httpx\n"
+        "print(os.environ['TWINLINK_URL'])\n"
+        "print(sorted(k for k in os.environ if k.startswith('TWINLINK_')))\n"
+        "me = httpx.get(os.environ['TWINLINK_URL'] + '/api/v1/auth/me',\n"
+        "               headers={'Authorization': 'Bearer ' + os.environ['TWINLINK_TOKEN']})\n"
+        "print(me.json()['username'])\n"
+    )
+    out = run_code(ws_url, headers, code).splitlines()
+    assert out == [server.url, "['TWINLINK_TOKEN', 'TWINLINK_URL']", "alice"]
+    with pytest.raises(Exception, match="403"):  # another site's page cannot open one
+        run_code(ws_url, {**headers, "Origin": "http://evil.example"}, "print(1)")
+
+
+def test_stop_ends_the_process_and_revokes_its_token(
+    server: Server, users: dict[str, str], sessions: dict[str, str]
+) -> None:
+    token = run_code(_kernel(server, sessions["bob"]), cookie(sessions["bob"]),
+                     "import os; print(os.environ['TWINLINK_TOKEN'])").strip()  # fmt: skip
+    with server.client(token) as c:
+        assert c.get("/api/v1/auth/me").json()["username"] == "bob"
+    processes = lab_processes(server, "bob")
+    assert len(processes) == 1
+    with server.client(users["bob"]) as c:
+        assert c.delete("/api/v1/workspaces/me").status_code == 204
+        assert c.get("/api/v1/workspaces/me").json()["state"] == "stopped"
+        assert_problem(c.get("/workspaces/bob/api/status"), 404)  # bob's token: it is not running
+    with server.client() as c:  # the session ended with it
+        assert_problem(c.get("/workspaces/bob/api/status", headers=cookie(sessions["bob"])), 403)
+    assert not processes[0].is_running()
+    with server.client(token) as c:
+        assert_problem(c.get("/api/v1/auth/me"), 401)
+
+
+def test_admins_see_every_workspace(server: Server, sessions: dict[str, str]) -> None:
+    with server.admin as c:
+        listed = c.get("/api/v1/workspaces").json()["workspaces"]
+    states = {w["user"]: w["state"] for w in listed}
+    assert states["alice"] == "running"
+    assert all(w["url"] is None for w in listed)  # links are for their owners
+
+
+def test_the_servers_stop_stops_every_workspace(tmp_path: object, server: Server) -> None:
+    srv = start_server(server.data_dir.parent / "stop-data")
+    token = make_user(srv, "carol")
+    start(srv, token)
+    processes = lab_processes(srv, "carol")
+    assert len(processes) == 1
+    stop_server(srv)
+    poll_until(lambda: not processes[0].is_running(), "carol's JupyterLab to end")
+
+
+def _kernel(server: Server, session: str) -> str:
+    r = httpx.post(f"{server.url}/workspaces/bob/api/kernels", json={}, headers=cookie(session))
+    assert r.status_code == 201, r.text
+    return (
+        server.url.replace("http://", "ws://")
+        + f"/workspaces/bob/api/kernels/{r.json()['id']}/channels"
+    )
