@@ -2,11 +2,11 @@
 // the shared design until openapi.ts is regenerated with these routes.
 import { apiFetch, apiRequest, getToken } from "./client";
 
-export type DeploymentState = "planned" | "created" | "running" | "stopped" | "terminated" | "failed";
+export type DeploymentState = "planned" | "applying" | "created" | "running" | "stopped" | "terminated" | "failed";
 export type ResourceType = "twin" | "device" | "processor" | "connector" | "service";
 
 export interface Deployment {
-  id: string;
+  id: number;
   name: string;
   /** The pinned ref of the package: lib:<scope>/twins/<name>@sha256:... */
   package: string;
@@ -16,13 +16,13 @@ export interface Deployment {
   state: DeploymentState;
   twin: string;
   resources: {
-    twin?: string;
+    twin?: string | null;
     devices?: string[];
     processors?: string[];
     connectors?: string[];
     services?: string[];
   };
-  created_by: string;
+  created_by: string | null;
   created_ns: number;
   updated_ns: number;
   error: string | null;

@@ -36,10 +36,11 @@ export interface LibraryFile {
 export interface VersionSummary {
   digest: string;
   size: number;
+  file_count?: number;
   tags: string[];
   meta: Record<string, unknown>;
   created_ns: number;
-  created_by: string;
+  created_by: string | null;
 }
 
 export interface Version extends VersionSummary {

@@ -95,6 +95,18 @@ describe("NewDeployment", () => {
     expect(bodies(fetch, "/api/v1/deployments?dry_run=true")).toEqual([]);
   });
 
+  it("places the deployments API's 'parameter NAME: message' at that field", async () => {
+    setup(() => jsonResponse({ title: "Invalid input", status: 422, detail: "parameter mode: 'slow' is not one of ['fast', 'exact']" }, 422, "application/problem+json"));
+    await userEvent.selectOptions(await screen.findByLabelText("Twin package"), "common/twins/tingen-rig");
+    await screen.findByLabelText("Zeta");
+    await userEvent.click(screen.getByRole("button", { name: "Plan" }));
+    await screen.findByRole("region", { name: "Plan" });
+    await userEvent.click(screen.getByRole("button", { name: "Deploy" }));
+    const message = await screen.findByText("'slow' is not one of ['fast', 'exact']");
+    expect(message.closest("[data-path]")).toHaveAttribute("data-path", "parameters.mode");
+    expect(screen.queryByRole("alert")).toBeNull();
+  });
+
   it("shows the server's problem at the field it names, and the rest above the form", async () => {
     setup(() =>
       jsonResponse(

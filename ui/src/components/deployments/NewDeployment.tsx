@@ -7,6 +7,7 @@ import { ErrorMessage, Loading } from "../common/Status";
 import { PlainField } from "../processors/CreateFields";
 import { SchemaForm } from "../processors/schema/SchemaForm";
 import { schemaPaths } from "../processors/schema/schema";
+import { ApiError } from "../../api/client";
 import { formErrors, NO_ERRORS, type FormErrors } from "../processors/serverErrors";
 import { checkParameters, parameterDefaults } from "./packageParams";
 import { PackagePicker, packageRef, usePackageInfo, type PackageChoice } from "./PackagePicker";
@@ -17,6 +18,21 @@ const NAME_HINT = "The twin's slug: lower case letters, digits and dashes.";
 /** A free slug-like name from an asset name ("tingen-rig" -> "tingen-rig"). */
 export function nameFor(asset: string): string {
   return asset.toLowerCase().replace(/[^a-z0-9]+/g, "-").replace(/^-+|-+$/g, "");
+}
+
+// The deployments API names a parameter that does not fit as "parameter zeta: 3 is greater than
+// the maximum of 2" (nested ones dotted): placed at that field of the form.
+const PARAMETER = /^parameter ([\w-]+(?:\.[\w-]+)*): (.+)$/s;
+
+/** A refusal's messages at the fields they name; the rest above the form. */
+export function deployErrors(error: unknown, known: ReadonlySet<string>): FormErrors {
+  if (error instanceof ApiError && error.status === 422) {
+    const match = PARAMETER.exec(error.detail);
+    if (match && known.has(`parameters.${match[1]}`)) {
+      return { fields: { [`parameters.${match[1]}`]: match[2]! }, general: null, error };
+    }
+  }
+  return formErrors(error, known);
 }
 
 interface Props {
@@ -54,7 +70,7 @@ function useDeployForm() {
     try {
       await fn();
     } catch (err) {
-      setErrors(formErrors(err, known));
+      setErrors(deployErrors(err, known));
     } finally {
       setBusy(null);
     }

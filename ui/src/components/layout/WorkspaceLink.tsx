@@ -12,7 +12,8 @@ export function WorkspaceLink() {
     setBusy(true);
     const tab = window.open("about:blank", "_blank");
     try {
-      const { url } = await startWorkspace();
+      const { url, state, error: why } = await startWorkspace();
+      if (!url) throw new Error(why ? `it is ${state}: ${why}` : `it is ${state}; try again in a moment`);
       if (tab) {
         // The new tab must not reach back into this one through window.opener.
         tab.opener = null;
