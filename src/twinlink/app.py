@@ -166,6 +166,7 @@ def build_services(settings: Settings) -> Services:
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
         library=_library_service(settings, store),
     )
+    services.processors.lib.library = services.library  # for `fmu: lib:...` (libref.py)
     services.deployments = _deployment_service(settings, services, vault)
     services.workspaces = _workspace_service(settings, services)
     return services
