@@ -207,8 +207,10 @@ class DeploymentService:
     ) -> dict[str, str]:
         """Make every resource, journaled; undone whole when any step fails."""
         tokens: dict[str, str] = {}
+        step = "the twin"
         try:
             for resource in loaded.resources:
+                step = f"{resource.type} {resource.name!r}"
                 token = await self.parts.make(principal, record.name, resource, running=start)
                 record.journal.append(self.parts.entry(resource))
                 if token is not None:
@@ -216,7 +218,8 @@ class DeploymentService:
                     record.secrets = self.vault.seal(tokens)
                 await self._save(record)
         except BaseException as err:
-            await self._fail(record, f"applying failed, and what was made was removed: {err}")
+            await self._fail(record, f"making {step} failed: {err}; what was made before it "
+                             "was removed")  # fmt: skip
             raise
         record.state = "running" if start else "created"
         await self._save(record)
