@@ -224,7 +224,7 @@ def deploy_runs(ctx: click.Context, name: str, as_json: bool) -> None:
     if as_json:
         emit(runs, True)
         return
-    rows = [[r["id"], r["phase"], r["state"], show_value(r.get("exit_code")),
+    rows = [[str(r["id"]), r["phase"], r["state"], show_value(r.get("exit_code")),
              r.get("started_by") or "", r.get("node") or ""] for r in runs]  # fmt: skip
     table(["RUN", "PHASE", "STATE", "EXIT", "BY", "NODE"], rows)
 
