@@ -32,6 +32,7 @@ from twinlink.api import connectors as connectors_api
 from twinlink.api import deployments as deployments_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
+from twinlink.api import library as library_api
 from twinlink.api import mqtt as mqtt_api
 from twinlink.api import workspaces as workspaces_api
 from twinlink.api.readiness import Readiness
@@ -364,6 +365,7 @@ def create_app(
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
     routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api)
+    app.include_router(library_api.router)  # /api/v1/library
     for module in (*routers, *routers_more, workspaces_api, search, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)

@@ -121,6 +121,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _connectors(walk)
     _users_and_tokens(walk)
     _system(walk)
+    _library(walk)
     _removals(walk)
     answered = {(m, p) for m, p, status in walk.contract.seen if 200 <= status < 300}
     assert walk.contract.operations() - answered == set()
@@ -294,6 +295,23 @@ def _system(w: Walk) -> None:
     w.ok(w.admin.get("/readyz"))
     w.ok(w.admin.get("/metrics"))
     w.ok(w.admin.get("/api/v1/mqtt"))
+
+
+def _library(w: Walk) -> None:
+    base = f"/api/v1/library/me/data/{w.slug}"
+    w.ok(w.admin.post(f"{base}/versions", params={"format": "file", "filename": "a.txt"},
+                      content=b"a"), 201)  # fmt: skip
+    w.ok(w.admin.get("/api/v1/library"))
+    w.ok(w.admin.get(base))
+    w.ok(w.admin.patch(base, json={"description": "contract"}))
+    w.ok(w.admin.get(f"{base}/versions"))
+    w.ok(w.admin.get(f"{base}/versions/latest"))
+    w.ok(w.admin.get(f"{base}/versions/latest/archive"))
+    w.ok(w.admin.get(f"{base}/versions/latest/files/a.txt"))
+    w.ok(w.admin.put(f"{base}/tags/v1", json={"version": "latest"}))
+    w.ok(w.admin.delete(f"{base}/tags/v1"), 204)
+    w.ok(w.admin.delete(f"{base}/versions/latest"), 204)
+    w.ok(w.admin.delete(base), 204)
 
 
 def _removals(w: Walk) -> None:

@@ -25,13 +25,13 @@ from twinlink.domain.library import (
     VersionRecord,
     check_kind,
     check_name,
-    check_ref,
     check_scope,
     check_tag,
     parse_ref,
 )
 from twinlink.library import archive
 from twinlink.library.blobs import BlobStore
+from twinlink.library.changes import LibraryChanges
 from twinlink.library.contents import (
     FmuInspector,
     fields_of,
@@ -67,7 +67,7 @@ class PushResult:
     created: bool
 
 
-class LibraryService:
+class LibraryService(LibraryChanges):
     def __init__(
         self,
         store: LibraryStore,
@@ -109,35 +109,6 @@ class LibraryService:
             if asset is not None:
                 return asset
         raise NotFoundError(f"the library has no {kind}/{name} in {', '.join(order)}")
-
-    async def get_asset(
-        self, principal: Principal, scope: str, kind: str, name: str
-    ) -> AssetRecord:
-        scope = self._scope(principal, scope)
-        what = f"{scope}/{check_kind(kind)}/{check_name(name)}"
-        self.rights.check_read(principal, scope, what)
-        asset = await self.store.get_asset(scope, kind, name)
-        if asset is None:
-            raise NotFoundError(f"the library has no {what}")
-        return asset
-
-    async def version_of(self, asset: AssetRecord, ref: str) -> VersionRecord:
-        """The version of `asset` that `ref` (a tag, a digest or a digest prefix) names."""
-        check_ref(ref)
-        digest = asset.tags.get(ref)
-        if digest is None and ref.startswith("sha256:"):
-            found = await self.store.find_digests(asset.id, ref)
-            if len(found) > 1:
-                raise InvalidInputError(
-                    f"{ref} is the start of several versions of {asset.ref} "
-                    f"({', '.join(d[:19] for d in found)}...): give more of the digest"
-                )
-            digest = found[0] if found else None
-        version = await self.store.get_version(asset.id, digest) if digest else None
-        if version is None:
-            tags = ", ".join(sorted(asset.tags)) or "none"
-            raise NotFoundError(f"{asset.ref} has no version {ref} (its tags: {tags})")
-        return version
 
     async def file_path(self, resolved: Resolved) -> Path:
         """The local path of the file `resolved` names (its #path or its only file)."""
@@ -227,15 +198,6 @@ class LibraryService:
         for f in files:
             if not await self.blobs.exists(f.sha256):  # swept by a delete meanwhile
                 raise ConflictError("the library changed during the push; push again")
-
-    async def sweep(self, sha256s: Iterable[str]) -> int:
-        """Delete those blobs no version lists any more; returns how many."""
-        wanted = set(sha256s)
-        async with self._blob_lock:
-            unused = wanted - await self.store.referenced_blobs(wanted)
-            for sha256 in unused:
-                await self.blobs.delete(sha256)
-        return len(unused)
 
     def _scope(self, principal: Principal, scope: str) -> str:
         return check_scope(scope, _username(principal))
