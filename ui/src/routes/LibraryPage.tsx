@@ -99,6 +99,8 @@ export function LibraryPage() {
   const { me } = useAuth();
   const [params, setParams] = useSearchParams();
   const [uploading, setUploading] = useState(false);
+  // Counts uploads: the open asset's details are read again after each (a new version).
+  const [uploads, setUploads] = useState(0);
   const kind = params.get("kind") ?? "";
   const scope = params.get("scope") ?? "";
   const q = params.get("q") ?? "";
@@ -135,6 +137,7 @@ export function LibraryPage() {
           kind={kind}
           onUploaded={(answer) => {
             assets.reload();
+            setUploads((n) => n + 1);
             set("asset", answer.asset.ref);
           }}
         />
@@ -144,7 +147,7 @@ export function LibraryPage() {
       {!assets.data && !assets.error && <Loading />}
       {assets.data && assets.data.length === 0 && <Empty>{q ? `Nothing in the library matches “${q}”.` : "No asset here yet: upload one."}</Empty>}
       {assets.data && assets.data.length > 0 && <AssetTable assets={assets.data} open={open} onOpen={(ref) => set("asset", ref === open ? "" : ref)} />}
-      {parts?.length === 3 && <AssetDetails key={open!} scope={parts[0]!} kind={parts[1]!} name={parts[2]!} onChanged={assets.reload} />}
+      {parts?.length === 3 && <AssetDetails key={`${open!}#${uploads}`} scope={parts[0]!} kind={parts[1]!} name={parts[2]!} onChanged={assets.reload} />}
     </main>
   );
 }
