@@ -102,12 +102,11 @@ def test_a_kernel_runs_code_over_the_proxied_websocket(
         + f"/workspaces/alice/api/kernels/{r.json()['id']}/channels"
     )
     code = (
-        "import os, httpx\n"
+        "import os, pandas\n"
+        "from twinlink.client import Client\n"
         "print(os.environ['TWINLINK_URL'])\n"
         "print(sorted(k for k in os.environ if k.startswith('TWINLINK_')))\n"
-        "me = httpx.get(os.environ['TWINLINK_URL'] + '/api/v1/auth/me',\n"
-        "               headers={'Authorization': 'Bearer ' + os.environ['TWINLINK_TOKEN']})\n"
-        "print(me.json()['username'])\n"
+        "print(Client().me()['username'])\n"  # no arguments: the workspace's URL and token
     )
     out = run_code(ws_url, headers, code).splitlines()
     assert out == [server.url, "['TWINLINK_TOKEN', 'TWINLINK_URL']", "alice"]
