@@ -168,6 +168,7 @@ def build_services(settings: Settings) -> Services:
         library=_library_service(settings, store),
     )
     services.processors.lib.library = services.library  # for `fmu: lib:...` (libref.py)
+    services.search.library = services.library  # assets are found beside twins
     services.deployments = _deployment_service(settings, services, vault)
     services.workspaces = _workspace_service(settings, services)
     return services

@@ -17,7 +17,7 @@ import httpx
 import pytest
 
 from tests.conftest import FmuFiles, Server, start_server, stop_server
-from tests.integration._util import assert_problem, make_user, unique
+from tests.integration._util import YAML_HEADERS, assert_problem, make_user, twin_doc, unique
 
 pytestmark = pytest.mark.integration
 LIB = "/api/v1/library"
@@ -262,3 +262,35 @@ def test_fmus_are_checked_at_push(server: Server, fmu_files: FmuFiles) -> None:
 def _blob_files(data_dir: Path) -> set[str]:
     root = data_dir / "library" / "blobs"
     return {p.parent.name + p.name for p in root.glob("??/*") if p.is_file()}
+
+
+def test_search_finds_assets_the_caller_may_read_beside_twins(server: Server) -> None:
+    word = unique("gyro").replace("-", "")
+    owner = make_user(server, unique("owner"))
+    other = make_user(server, unique("other"))
+    with server.admin as admin, server.client(owner) as mine:
+        _ok(_push(admin, f"common/data/{word}-table", b"t", format="file", filename="t"), 201)
+        _ok(admin.patch(f"{LIB}/common/data/{word}-table", json={"keywords": ["calibration"]}))
+        _ok(_push(mine, f"me/data/{word}-private", b"p", format="file", filename="p"), 201)
+        twin = f"{word} rig"
+        doc = twin_doc(f"urn:{word}", name=twin, description=f"holds the {word}")
+        _ok(admin.post("/api/v1/apply", content=doc, headers=YAML_HEADERS))
+
+    def search(token: str, **params: Any) -> dict[str, Any]:
+        with server.client(token) as c:
+            return _ok(c.get("/api/v1/search", params={"q": word, **params}))  # type: ignore[no-any-return]
+
+    found = search(owner)
+    assert [(h["kind"], h["name"]) for h in found["hits"]] == [
+        ("twin", twin), ("asset", f"{word}-table"), ("asset", f"{word}-private")
+    ]  # fmt: skip: twins first, then assets by scope (common before user:...)
+    assert found["total"] == 3
+    asset = found["hits"][1]
+    assert (asset["ref"], asset["scope"], asset["asset_kind"], asset["slug"]) == (
+        f"common/data/{word}-table", "common", "data", None
+    )  # fmt: skip
+    others = search(other)
+    assert [h["name"] for h in others["hits"]] == [twin, f"{word}-table"]  # not owner's
+    assert [h["name"] for h in search(other, keyword="calibration")["hits"]] == [f"{word}-table"]
+    pages = [search(owner, limit=1, offset=i)["hits"][0]["name"] for i in range(3)]
+    assert pages == [h["name"] for h in found["hits"]]

@@ -145,3 +145,33 @@ async def test_update_asset_changes_only_the_fields_given(stores: Stores) -> Non
     assert (updated.author, updated.licence, updated.keywords) == ("Ann", "MIT", ["a", "b"])
     assert updated.updated_ns == 5
     assert await store.update_asset(asset.id + 100, AssetFields(author="x"), 6) is None
+
+
+async def test_search_needs_every_term_and_ranks_names_first(stores: Stores) -> None:
+    store = stores.metadata
+    v = _version(b"x")
+    for scope, name, fields in [
+        ("common", "beam-model", AssetFields(description="a cantilever", keywords=["FMU"])),
+        ("common", "crane", AssetFields(description="the beam of a crane model")),
+        ("user:bob", "beam-secret", AssetFields(description="model")),
+        ("common", "other", AssetFields(description="nothing to see")),
+    ]:
+        await store.put_version(scope, "models", name, v, [], fields, 1)
+
+    async def names(scopes: list[str] | None, terms: list[str], **kw: object) -> list[str]:
+        kw.setdefault("limit", 10)
+        kw.setdefault("offset", 0)
+        kw.setdefault("keyword", None)
+        found, total = await store.search_assets(scopes, terms, **kw)  # type: ignore[arg-type]
+        assert total >= len(found)
+        return [a.name for a in found]
+
+    # every term in the name first, then by scope, kind, name
+    assert await names(None, ["beam", "model"]) == ["beam-model", "crane", "beam-secret"]
+    assert await names(["common"], ["beam", "model"]) == ["beam-model", "crane"]
+    assert await names(["common"], ["beam"], keyword="FMU") == ["beam-model"]
+    assert await names(["common"], ["beam"], keyword="fmu") == []  # keywords match whole
+    assert await names(["common"], []) == ["beam-model", "crane", "other"]
+    assert await names(["common"], ["beam", "model"], limit=1, offset=1) == ["crane"]
+    assert await store.search_assets([], ["beam"], keyword=None, limit=5, offset=0) == ([], 0)
+    assert (await store.search_assets(None, ["beam"], keyword=None, limit=0, offset=0))[1] == 3

@@ -99,6 +99,24 @@ class LibraryChanges:
             after=_after(after) if after else None,
         )
 
+    async def search_assets(
+        self,
+        principal: Principal,
+        terms: list[str],
+        *,
+        keyword: str | None = None,
+        limit: int,
+        offset: int = 0,
+    ) -> tuple[list[AssetRecord], int]:
+        """The assets the caller may read that hold every term (the platform's search), one
+        page of them, and how many there are."""
+        scopes = self.rights.readable_scopes(principal)
+        if scopes == []:
+            return [], 0
+        return await self.store.search_assets(
+            scopes, terms, keyword=keyword, limit=limit, offset=offset
+        )
+
     async def list_versions(self, asset: AssetRecord) -> list[VersionRecord]:
         return await self.store.list_versions(asset.id)
 

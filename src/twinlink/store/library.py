@@ -48,6 +48,20 @@ class LibraryStore(Protocol):
         key `after`; `text` matches names, descriptions and keywords (case-insensitive)."""
         ...
 
+    async def search_assets(
+        self,
+        scopes: list[str] | None,
+        terms: list[str],
+        *,
+        keyword: str | None,
+        limit: int,
+        offset: int,
+    ) -> tuple[list[AssetRecord], int]:
+        """A page of the assets in `scopes` (None: all) whose name, description or keywords
+        hold every term (lower-case), those with every term in the name first, then by
+        (scope, kind, name); with `keyword`, only assets that have it. And how many match."""
+        ...
+
     async def put_version(
         self,
         scope: str,

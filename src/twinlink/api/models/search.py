@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import BaseModel, Field
 
 
@@ -12,10 +14,15 @@ class Match(BaseModel):
 
 
 class Hit(BaseModel):
-    slug: str
+    kind: Literal["twin", "asset"] = Field(description="a twin, or a library asset")
+    slug: str | None = Field(description="the twin's; null for an asset")
     name: str
     score: float
     matches: list[Match]
+    ref: str | None = Field(None, description="an asset's <scope>/<kind>/<name>")
+    scope: str | None = Field(None, description="an asset's scope")
+    asset_kind: str | None = Field(None, description="an asset's kind: data, models, ...")
+    description: str | None = Field(None, description="an asset's description")
 
 
 class KeywordCount(BaseModel):

@@ -73,6 +73,48 @@ class LibraryTables:
 
         return await self.db.read(_list)
 
+    async def search_assets(
+        self,
+        scopes: list[str] | None,
+        terms: list[str],
+        *,
+        keyword: str | None,
+        limit: int,
+        offset: int,
+    ) -> tuple[list[AssetRecord], int]:
+        where: list[str] = []
+        args: list[object] = []
+        in_name: list[str] = []
+        name_args: list[object] = []
+        if scopes is not None:
+            where.append(f"scope IN ({', '.join('?' * len(scopes)) or 'NULL'})")
+            args += scopes
+        for term in terms:
+            like = f"%{term.translate(_LIKE_ESCAPE)}%"
+            where.append(
+                "(lower(name) LIKE ? ESCAPE '\\' OR lower(description) LIKE ? ESCAPE '\\'"
+                " OR lower(keywords) LIKE ? ESCAPE '\\')"
+            )
+            args += [like, like, like]
+            in_name.append("lower(name) LIKE ? ESCAPE '\\'")
+            name_args.append(like)
+        if keyword:
+            where.append("EXISTS (SELECT 1 FROM json_each(keywords) WHERE value = ?)")
+            args.append(keyword)
+        cond = f" WHERE {' AND '.join(where)}" if where else ""
+        first = f"CASE WHEN {' AND '.join(in_name)} THEN 0 ELSE 1 END, " if in_name else ""
+
+        def _search(c: sqlite3.Connection) -> tuple[list[AssetRecord], int]:
+            total = c.execute(f"SELECT count(*) FROM library_assets{cond}", args).fetchone()[0]
+            rows = c.execute(
+                f"SELECT {ASSET_COLUMNS} FROM library_assets{cond}"
+                f" ORDER BY {first}scope, kind, name LIMIT ? OFFSET ?",
+                [*args, *name_args, limit, offset],
+            )
+            return _with_tags(c, [asset_of(r) for r in rows]), total
+
+        return await self.db.read(_search)
+
     async def put_version(
         self,
         scope: str,

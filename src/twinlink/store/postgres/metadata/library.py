@@ -68,6 +68,45 @@ class LibraryTables:
         async with self.db.connection() as conn:
             return await _with_tags(conn, [asset_of(r) for r in await conn.fetch(sql, *args)])
 
+    async def search_assets(
+        self,
+        scopes: list[str] | None,
+        terms: list[str],
+        *,
+        keyword: str | None,
+        limit: int,
+        offset: int,
+    ) -> tuple[list[AssetRecord], int]:
+        where: list[str] = []
+        args: list[object] = []
+        in_name: list[str] = []
+
+        def arg(value: object) -> str:
+            args.append(value)
+            return f"${len(args)}"
+
+        if scopes is not None:
+            where.append(f"scope = ANY({arg(scopes)}::text[])")
+        for term in terms:
+            like = arg(f"%{term.translate(_LIKE_ESCAPE)}%")
+            where.append(
+                f"(lower(name) LIKE {like} OR lower(description) LIKE {like}"
+                f" OR lower(keywords) LIKE {like})"
+            )
+            in_name.append(f"lower(name) LIKE {like}")
+        if keyword:
+            where.append(f"keywords::jsonb ? {arg(keyword)}")
+        cond = f" WHERE {' AND '.join(where)}" if where else ""
+        first = f"CASE WHEN {' AND '.join(in_name)} THEN 0 ELSE 1 END, " if in_name else ""
+        async with self.db.connection() as conn:
+            total = await conn.fetchval(f"SELECT count(*) FROM library_assets{cond}", *args)
+            rows = await conn.fetch(
+                f"SELECT {ASSET_COLUMNS} FROM library_assets{cond}"
+                f" ORDER BY {first}scope, kind, name LIMIT {arg(limit)} OFFSET {arg(offset)}",
+                *args,
+            )
+            return await _with_tags(conn, [asset_of(r) for r in rows]), int(total)
+
     async def put_version(
         self,
         scope: str,
