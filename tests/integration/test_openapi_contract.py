@@ -122,6 +122,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _users_and_tokens(walk)
     _system(walk)
     _library(walk)
+    _deployments(walk)
     _removals(walk)
     answered = {(m, p) for m, p, status in walk.contract.seen if 200 <= status < 300}
     assert walk.contract.operations() - answered == set()
@@ -312,6 +313,24 @@ def _library(w: Walk) -> None:
     w.ok(w.admin.delete(f"{base}/tags/v1"), 204)
     w.ok(w.admin.delete(f"{base}/versions/latest"), 204)
     w.ok(w.admin.delete(base), 204)
+
+
+def _deployments(w: Walk) -> None:
+    name = f"{w.slug}-dep"
+    package = "parameters: {type: object, properties: {n: {type: string, default: a}}}\n"
+    w.ok(w.admin.post("/api/v1/library/me/twins/contract/versions",
+                      params={"format": "file", "filename": "twin.yaml"},
+                      content=package.encode()), 201)  # fmt: skip
+    body = {"package": "contract", "name": name}
+    w.ok(w.admin.post("/api/v1/deployments", params={"dry_run": True}, json=body))
+    w.ok(w.admin.post("/api/v1/deployments", json={**body, "state": "planned"}), 201)
+    w.ok(w.admin.post(f"/api/v1/deployments/{name}/create"))
+    w.ok(w.admin.get("/api/v1/deployments"))
+    w.ok(w.admin.get(f"/api/v1/deployments/{name}"))
+    w.ok(w.admin.patch(f"/api/v1/deployments/{name}", json={"parameters": {"n": "b"}}))
+    w.ok(w.admin.post(f"/api/v1/deployments/{name}/start"))
+    w.ok(w.admin.post(f"/api/v1/deployments/{name}/stop"))
+    w.ok(w.admin.post(f"/api/v1/deployments/{name}/terminate", json={"purge": True}))
 
 
 def _removals(w: Walk) -> None:

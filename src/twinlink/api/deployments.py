@@ -173,8 +173,8 @@ async def list_deployments(caller: Caller, deployments: Deployments) -> JSONAnsw
     "(`dry_run`, 200)",
     response_class=JSONAnswer,
     status_code=201,
-    response_model=Applied | PlanAnswer,
-    responses=CHANGING,
+    response_model=Applied,
+    responses={**CHANGING, 200: {"model": PlanAnswer, "description": "The plan (`dry_run`)"}},
 )
 async def create_deployment(
     body: CreateBody,
