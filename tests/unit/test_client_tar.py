@@ -114,3 +114,16 @@ def test_a_link_already_in_the_destination_is_replaced_not_written_through(
     _tar.unpack(iter([_tar_of((tarfile.TarInfo("a.txt"), b"new"))]), dest)
     assert victim.read_text() == "keep me"
     assert (dest / "a.txt").read_bytes() == b"new" and not (dest / "a.txt").is_symlink()
+
+
+def test_packing_is_streamed_a_chunk_at_a_time(tmp_path: Path) -> None:
+    big = tmp_path / "big.bin"
+    with big.open("wb") as f:
+        f.truncate(5 * _tar.CHUNK + 3)  # sparse: no disk used
+    chunks = _tar.pack([("big.bin", big)])
+    header = next(chunks)
+    assert len(header) % _tar.BLOCK == 0 and len(header) < 4 * _tar.BLOCK
+    sizes = [len(c) for c in chunks]
+    assert max(sizes) == _tar.CHUNK  # never more than a chunk of the file at once
+    size = 5 * _tar.CHUNK + 3
+    assert sum(sizes) == size + (_tar.BLOCK - size % _tar.BLOCK) + 2 * _tar.BLOCK  # padding, end

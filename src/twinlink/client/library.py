@@ -22,9 +22,16 @@ class Library:
     def ls(
         self, kind: str | None = None, scope: str | None = None, q: str | None = None
     ) -> list[dict[str, Any]]:
-        """The assets the caller may read, narrowed by kind, scope and words."""
+        """The assets the caller may read, narrowed by kind, scope and words (all pages)."""
         params = {k: v for k, v in {"kind": kind, "scope": scope, "q": q}.items() if v}
-        return list(self._t.json("GET", "/api/v1/library", params=params)["assets"])
+        params["limit"] = "1000"
+        found: list[dict[str, Any]] = []
+        while True:
+            page = self._t.json("GET", "/api/v1/library", params=params)
+            found += page["assets"]
+            if not page.get("next"):
+                return found
+            params["after"] = page["next"]
 
     def locate(self, ref: str | AssetRef, kind: str | None = None) -> AssetRef:
         """`ref` with its scope: as written, else the first space that has the asset, in the
