@@ -4,6 +4,7 @@ its tests (each takes seconds to start)."""
 
 from __future__ import annotations
 
+import json
 from collections.abc import Iterator
 
 import httpx
@@ -82,6 +83,23 @@ def test_nobody_else_reaches_a_workspace(
     with server.client(users["alice"]) as c:  # her own token works, for scripts
         assert c.get(status).status_code == 200
         assert c.get("/api/v1/workspaces/me").json()["state"] == "running"
+
+
+def test_files_go_both_ways_through_the_proxy(server: Server, sessions: dict[str, str]) -> None:
+    text = "twinlink\n" * 300_000  # 2.7 MB, sent in chunks of unknown total length
+    body = json.dumps({"type": "file", "format": "text", "content": text}).encode()
+
+    def chunks() -> Iterator[bytes]:
+        for i in range(0, len(body), 1 << 16):
+            yield body[i : i + (1 << 16)]
+
+    url = "/workspaces/alice/api/contents/notes.txt"
+    with server.client() as c:
+        r = c.put(url, content=chunks(), headers=cookie(sessions["alice"]))
+        assert r.status_code in (200, 201), r.text
+        back = c.get(url, params={"content": "1"}, headers=cookie(sessions["alice"]))
+    assert back.status_code == 200 and back.json()["content"] == text
+    assert (server.data_dir / "workspaces" / "alice" / "notes.txt").read_text() == text
 
 
 def test_a_change_from_another_site_is_refused(server: Server, sessions: dict[str, str]) -> None:

@@ -126,7 +126,9 @@ class WorkspaceProxy:
         query = scope["query_string"].decode("latin-1")
         url = ws.process.origin + path + (f"?{query}" if query else "")
         headers = _request_headers(scope, ws.process.token)
-        has_body = any(k in ("content-length", "transfer-encoding") for k, _ in headers)
+        # A body announced by its length or as chunks (the chunked framing itself is
+        # hop-by-hop: httpx frames the stream again).
+        has_body = any(k in (b"content-length", b"transfer-encoding") for k, _ in scope["headers"])
         content = _body(receive) if has_body else b""
         request = client.build_request(scope["method"], url, headers=headers,
                                                  content=content)  # fmt: skip
