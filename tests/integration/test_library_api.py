@@ -24,9 +24,13 @@ LIB = "/api/v1/library"
 MAX_MB = 2
 
 
+def library_server(data_dir: Path, **env: str) -> Server:
+    return start_server(data_dir, {"TWINLINK_LIBRARY_MAX_MB": str(MAX_MB), **env})
+
+
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    srv = start_server(tmp_path_factory.mktemp("data"), {"TWINLINK_LIBRARY_MAX_MB": str(MAX_MB)})
+    srv = library_server(tmp_path_factory.mktemp("data"))
     try:
         yield srv
     finally:
@@ -282,7 +286,9 @@ def test_search_finds_assets_the_caller_may_read_beside_twins(server: Server) ->
 
     found = search(owner)
     assert [(h["kind"], h["name"]) for h in found["hits"]] == [
-        ("twin", twin), ("asset", f"{word}-table"), ("asset", f"{word}-private")
+        ("twin", twin),
+        ("asset", f"{word}-table"),
+        ("asset", f"{word}-private"),
     ]  # fmt: skip: twins first, then assets by scope (common before user:...)
     assert found["total"] == 3
     asset = found["hits"][1]
