@@ -317,6 +317,8 @@ async def _stop_started(started: list[Callable[[], Awaitable[object]]]) -> None:
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    if services.deployments is not None:  # terminate/clean phases no longer waited for
+        await services.deployments.close()
     if services.workspaces is not None:  # their JupyterLabs stop, their tokens are revoked
         await services.workspaces.close()
     await services.mqtt.close()  # waits for batches in flight and sends their PUBACKs

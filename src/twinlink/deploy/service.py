@@ -12,12 +12,13 @@ import asyncio
 import logging
 import time
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.vault import Vault
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.loading import Library, Loaded, Where, check_name, load, package_ref
+from twinlink.deploy.phases import PhaseChains, PhaseRuns
 from twinlink.deploy.plan import Plan, canonical, plan_change, plan_create
 from twinlink.deploy.runs import RunTarget
 from twinlink.deploy.targets import run_target
@@ -35,15 +36,6 @@ from twinlink.store.base import MetadataStore
 log = logging.getLogger("twinlink.deploy")
 # Who undoes a create cut off by a crash, at the next start: nobody is signed in then.
 SYSTEM = Principal(User(id=0, username="twinlink", is_admin=True, groups=[], created_ns=0))
-
-
-class PhaseRuns(Protocol):
-    """The lifecycle runs (deploy/runs.py's RunService): a phase's script started, or
-    cancelled, and who may start one."""
-
-    def check_may_run(self, principal: Principal, owner_id: int | None) -> None: ...
-    async def start(self, principal: Principal, target: RunTarget, phase: str) -> Any: ...
-    async def cancel_phase(self, deployment_id: int, phase: str) -> Any: ...
 
 
 @dataclass(slots=True)
@@ -68,6 +60,7 @@ class DeploymentService:
         self.library = library
         self.vault = vault
         self.server_url = server_url.rstrip("/")
+        self.chains: PhaseChains | None = None
         self.runs = runs
         # One change of deployments at a time: a plan is applied against what it read.
         self._lock = asyncio.Lock()
@@ -79,6 +72,20 @@ class DeploymentService:
                         extra={"event": "deployment_recovered"})  # fmt: skip
             await self._fail(record, "the server stopped while this deployment was applied; "
                              "what it had made was removed at the next start")  # fmt: skip
+
+    @property
+    def runs(self) -> PhaseRuns | None:
+        """The lifecycle runs, when set up (app.py sets them once both services exist)."""
+        return self._runs
+
+    @runs.setter
+    def runs(self, runs: PhaseRuns | None) -> None:
+        self._runs = runs
+        self.chains = PhaseChains(runs) if runs is not None else None
+
+    async def close(self) -> None:
+        if self.chains is not None:
+            await self.chains.close()
 
     # -- reading ---------------------------------------------------------------------------
 
@@ -320,6 +327,10 @@ class DeploymentService:
         """Remove what it made but the twin (its document and history stay) unless `purge`;
         its device tokens go with its devices, its holds on library versions are released."""
         record = await self._changeable(principal, name)
+        loaded = await self._pinned(record)
+        ending = [p for p in ("terminate", "clean") if loaded and loaded.has_phase(p)]
+        if loaded is not None:
+            self._may_run_phases(principal, record.created_by, loaded, *ending)
         async with self._lock:
             if self.runs is not None:
                 await self.runs.cancel_phase(record.id, "execute")
@@ -330,7 +341,11 @@ class DeploymentService:
                 await self._save(record)
             record.state, record.secrets = "terminated", None
             await self._save(record)
+        if self.chains is None or self.library is None or loaded is None or not ending:
             await self._release(record)
+        else:  # the versions stay held until the scripts have had their files
+            target = run_target(self.library, record, loaded, {})
+            self.chains.start(principal, target, ending, lambda: self._release(record))
         return record
 
     async def reconfigure(
