@@ -98,7 +98,8 @@ def test_a_folder_name_is_made_an_asset_name_or_name_is_asked_for(tmp_path: Path
 
 
 def test_parameters_are_yaml_scalars() -> None:
-    pairs = ("zeta=0.7", "n=3", "on=true", "label=beam 1", "v=1.0.0", "e=", "xs=[1, 2]", "bad=[1")
+    pairs = ("zeta=0.7", "n=3", "on=true", "label=beam 1", "v=1.0.0", "e=", "xs=[1, 2]", "bad=[1",
+             "mode=on", "off=False")  # fmt: skip
     assert parse_parameters(pairs) == {
         "zeta": 0.7,
         "n": 3,
@@ -108,6 +109,8 @@ def test_parameters_are_yaml_scalars() -> None:
         "e": "",
         "xs": [1, 2],
         "bad": "[1",
+        "mode": "on",
+        "off": False,
     }
     with pytest.raises(click.BadParameter, match="is not key=value"):
         parse_parameters(("zeta",))

@@ -18,16 +18,20 @@ SIGNS = {"create": "+", "update": "~", "delete": "-"}
 
 def parse_parameters(pairs: tuple[str, ...]) -> dict[str, Any]:
     """`-p key=value` pairs; each value read as a YAML scalar (`0.7` a number, `true` a
-    bool, `[1, 2]` a list), text when it is not YAML."""
+    bool, `[1, 2]` a list), text when it is not YAML (and `yes`, `no`, `on`, `off`)."""
     out: dict[str, Any] = {}
     for pair in pairs:
         key, sep, text = pair.partition("=")
         if not sep or not key:
             raise click.BadParameter(f"{pair!r} is not key=value", param_hint="-p")
         try:
-            out[key] = yaml.safe_load(text) if text.strip() else text
+            value = yaml.safe_load(text) if text.strip() else text
         except yaml.YAMLError:
-            out[key] = text
+            value = text
+        # YAML 1.1's other bools (yes, no, on, off) stay text: `-p mode=on` means "on".
+        if isinstance(value, bool) and text.strip().lower() not in ("true", "false"):
+            value = text
+        out[key] = value
     return out
 
 
