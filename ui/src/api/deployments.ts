@@ -51,17 +51,20 @@ export interface Plan {
 export type RunState = "queued" | "running" | "succeeded" | "failed" | "cancelled";
 
 export interface Run {
-  id: string;
+  id: number;
   deployment: string;
+  twin?: string;
   phase: string;
   state: RunState;
   exit_code: number | null;
-  started_by: string;
+  started_by: string | null;
   created_ns: number;
   started_ns: number | null;
   ended_ns: number | null;
   node: string | null;
   error: string | null;
+  timeout_s?: number;
+  memory_mb?: number;
 }
 
 export interface DeploymentRequest {
@@ -122,22 +125,22 @@ export async function listRuns(name: string, signal?: AbortSignal): Promise<Run[
   return answer.runs;
 }
 
-export function cancelRun(id: string): Promise<unknown> {
-  return apiFetch<unknown>(`/api/v1/runs/${enc(id)}/cancel`, { method: "POST" });
+export function cancelRun(id: number): Promise<unknown> {
+  return apiFetch<unknown>(`/api/v1/runs/${id}/cancel`, { method: "POST" });
 }
 
 /** A run's log from byte `offset` on, and the run's state as the server saw it then. */
-export async function readLog(id: string, offset = 0, signal?: AbortSignal): Promise<{ text: string; state: string | null }> {
-  const response = await apiRequest(`/api/v1/runs/${enc(id)}/log`, { query: { offset }, accept: "text/plain", signal });
+export async function readLog(id: number, offset = 0, signal?: AbortSignal): Promise<{ text: string; state: string | null }> {
+  const response = await apiRequest(`/api/v1/runs/${id}/log`, { query: { offset }, accept: "text/plain", signal });
   return { text: await response.text(), state: response.headers.get("x-run-state") };
 }
 
 /** The WebSocket URL of a run's live log. A browser cannot set headers on a WebSocket, so the
  * token goes in the first message (`authMessage`), as the live view's socket sends it: never
  * in the URL, where proxies log it. */
-export function logSocketUrl(id: string, location: Location = window.location): string {
+export function logSocketUrl(id: number, location: Location = window.location): string {
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
-  return `${scheme}//${location.host}/api/v1/runs/${enc(id)}/log/ws`;
+  return `${scheme}//${location.host}/api/v1/runs/${id}/log/ws`;
 }
 
 export function authMessage(): string {

@@ -28,7 +28,13 @@ class FakeSocket {
   open() {
     act(() => this.onopen?.());
   }
-  push(data: string) {
+  /** A log chunk: a binary frame. */
+  push(bytes: Uint8Array) {
+    const data = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+    act(() => this.onmessage?.({ data }));
+  }
+  /** The end: a text frame. */
+  pushText(data: string) {
     act(() => this.onmessage?.({ data }));
   }
   end() {
@@ -41,7 +47,7 @@ const deployment = (state: string) => ({
   parameters: { zeta: 0.9 }, state, twin: "rig-a", resources: { twin: "rig-a", devices: ["tingenSAP"], processors: ["fmu"], connectors: [], services: [] },
   created_by: "admin", created_ns: 1.7e18, updated_ns: 1.7e18, error: null,
 });
-const run = (id: string, phase: string, state: string, exit_code: number | null) => ({
+const run = (id: number, phase: string, state: string, exit_code: number | null) => ({
   id, deployment: "rig-a", phase, state, exit_code, started_by: "admin", created_ns: 1.7e18, started_ns: 1.7e18, ended_ns: state === "running" ? null : 1.7e18, node: "n1", error: null,
 });
 
@@ -53,13 +59,13 @@ function setup() {
   const fetch = mockFetch((url, init) => {
     if (url === "/api/v1/deployments/rig-a") return jsonResponse(deployment(state));
     if (url === "/api/v1/deployments/rig-a/runs" && init?.method === "POST") return problem(403, "only admins may start runs (script_runners is admins)");
-    if (url === "/api/v1/deployments/rig-a/runs") return jsonResponse({ runs: [run("r2", "execute", "running", null), run("r1", "analyze", "failed", 3)] });
+    if (url === "/api/v1/deployments/rig-a/runs") return jsonResponse({ runs: [run(2, "execute", "running", null), run(1, "analyze", "failed", 3)] });
     if (url === "/api/v1/deployments/rig-a/stop" && init?.method === "POST") {
       state = "stopped";
       return jsonResponse(deployment(state));
     }
-    if (url === "/api/v1/runs/r1/log?offset=0") return new Response("reading history\nno samples\n", { headers: { "X-Run-State": "failed" } });
-    if (url === "/api/v1/runs/r2/log?offset=0") return new Response("started\nstep 1\nstep 2\n", { headers: { "X-Run-State": "succeeded" } });
+    if (url === "/api/v1/runs/1/log?offset=0") return new Response("reading history\nno samples\n", { headers: { "X-Run-State": "failed" } });
+    if (url === "/api/v1/runs/2/log?offset=0") return new Response("started\nstep 1: 2.5 m³\nstep 2\n", { headers: { "X-Run-State": "succeeded" } });
     return problem(404, `unexpected ${url}`);
   });
   render(
@@ -79,25 +85,29 @@ describe("DeploymentPage", () => {
     expect(within(runs).getAllByRole("row")).toHaveLength(3);
     await vi.waitFor(() => expect(FakeSocket.all).toHaveLength(1));
     const socket = FakeSocket.all[0]!;
-    expect(socket.url).toBe("ws://localhost:3000/api/v1/runs/r2/log/ws");
+    expect(socket.url).toBe("ws://localhost:3000/api/v1/runs/2/log/ws");
     socket.open();
     expect(socket.sent).toEqual([JSON.stringify({ op: "auth", token: "tl_x" })]);
-    socket.push("started\n");
-    socket.push("step 1\n");
+    // "m³" is cut between two chunks inside the "³" (two bytes in UTF-8): read whole.
+    const bytes = new TextEncoder().encode("started\nstep 1: 2.5 m³\n");
+    const cut = bytes.length - 2;
+    socket.push(bytes.subarray(0, cut));
     const log = screen.getByTestId("run-log");
-    expect(log).toHaveTextContent("started step 1");
-    socket.push('{"state": "succeeded", "exit_code": 0}');
-    expect(screen.getByRole("region", { name: "Log of run r2" })).toHaveTextContent("succeeded exit code 0");
+    expect(log).toHaveTextContent("started step 1: 2.5 m");
+    socket.push(bytes.subarray(cut));
+    expect(log.textContent).toBe("started\nstep 1: 2.5 m³\n");
+    socket.pushText('{"state": "succeeded", "exit_code": 0}');
+    expect(screen.getByRole("region", { name: "Log of run 2" })).toHaveTextContent("succeeded exit code 0");
     socket.end();
     // Once the socket is done, the stored log is the text shown: all of it.
-    await vi.waitFor(() => expect(log).toHaveTextContent("started step 1 step 2"));
+    await vi.waitFor(() => expect(log.textContent).toBe("started\nstep 1: 2.5 m³\nstep 2\n"));
   });
 
   it("reads a finished run's whole log when it is opened", async () => {
     setup();
     const runs = await screen.findByRole("table", { name: "Runs" });
-    await userEvent.click(within(runs).getByRole("button", { name: "Log of analyze run r1" }));
-    const shown = await screen.findByRole("region", { name: "Log of run r1" });
+    await userEvent.click(within(runs).getByRole("button", { name: "Log of analyze run 1" }));
+    const shown = await screen.findByRole("region", { name: "Log of run 1" });
     await vi.waitFor(() => expect(within(shown).getByTestId("run-log")).toHaveTextContent("reading history no samples"));
     expect(shown).toHaveTextContent("failed exit code 3");
   });

@@ -59,7 +59,7 @@ function DeviceTokens({ tokens }: { tokens: Record<string, string> }) {
 
 interface ActionsProps {
   deployment: Deployment;
-  onDone: (runId?: string) => void;
+  onDone: (runId?: number) => void;
 }
 
 function LifecycleActions({ deployment, onDone }: ActionsProps) {
@@ -67,7 +67,7 @@ function LifecycleActions({ deployment, onDone }: ActionsProps) {
   const [error, setError] = useState<Error | null>(null);
   const [phase, setPhase] = useState<string>("analyze");
   const [purge, setPurge] = useState(false);
-  async function act(fn: () => Promise<string | undefined>) {
+  async function act(fn: () => Promise<number | undefined>) {
     setBusy(true);
     setError(null);
     try {
@@ -160,7 +160,8 @@ export function DeploymentPage() {
   const tokens = (location.state as CreatedState | null)?.deviceTokens ?? {};
   const deployment = useApi((signal) => getDeployment(name, signal), [name]);
   const runs = useApi((signal) => listRuns(name, signal), [name]);
-  const [selected, setSelected] = useState<string | null>(null);
+  const [selected, setSelected] = useState<number | null>(null);
+  const [cancelError, setCancelError] = useState<Error | null>(null);
   const { reload: reloadDeployment } = deployment;
   const { reload: reloadRuns } = runs;
   useEffect(() => {
@@ -171,7 +172,7 @@ export function DeploymentPage() {
     return () => clearInterval(timer);
   }, [reloadDeployment, reloadRuns]);
 
-  const reloadAll = (runId?: string) => {
+  const reloadAll = (runId?: number) => {
     if (runId) setSelected(runId);
     reloadDeployment();
     reloadRuns();
@@ -194,13 +195,17 @@ export function DeploymentPage() {
       <Resources deployment={d} />
       <h2>Runs</h2>
       {runs.error && <ErrorMessage error={runs.error} onRetry={runs.reload} />}
+      {cancelError && <ErrorMessage error={cancelError} />}
       {!runs.data && !runs.error && <Loading />}
       {runs.data && (
         <RunHistory
           runs={runs.data}
           selected={shown?.id ?? null}
           onSelect={setSelected}
-          onCancel={(id) => void cancelRun(id).then(() => reloadRuns(), () => reloadRuns())}
+          onCancel={(id) => {
+            setCancelError(null);
+            cancelRun(id).then(reloadRuns, (err: unknown) => setCancelError(err instanceof Error ? err : new Error(String(err))));
+          }}
         />
       )}
       {shown ? <RunLog run={shown} onEnd={reloadRuns} /> : runs.data && runs.data.length > 0 && <Empty>Choose “Log” to read a run's log.</Empty>}

@@ -8,9 +8,9 @@ function when(ns: number | null): string {
 
 interface Props {
   runs: Run[];
-  selected: string | null;
-  onSelect: (id: string) => void;
-  onCancel: (id: string) => void;
+  selected: number | null;
+  onSelect: (id: number) => void;
+  onCancel: (id: number) => void;
 }
 
 export function RunHistory({ runs, selected, onSelect, onCancel }: Props) {
@@ -40,7 +40,7 @@ export function RunHistory({ runs, selected, onSelect, onCancel }: Props) {
               <td>{run.phase}</td>
               <td>
                 <span className={`badge run-${run.state}`}>{run.state}</span>
-                {run.error && <div className="proc-error-text">{run.error}</div>}
+                {run.error && run.error !== run.state && <div className="proc-error-text">{run.error}</div>}
               </td>
               <td className="num">{run.exit_code ?? "—"}</td>
               <td>{when(run.created_ns)}</td>

@@ -1,6 +1,6 @@
 // A run's log: the whole of it, followed live over the run's WebSocket while the run is active
-// (the socket sends what was logged so far, then each chunk as it comes, then a JSON frame with
-// the end state). A finished run's log is read once; reopening the page shows all of it again.
+// (the socket sends what was logged so far, then each chunk as it comes, as binary frames, then
+// a text frame with the end state as JSON). A finished run's log is read once; reopening the page shows all of it again.
 import { useEffect, useRef, useState } from "react";
 import { authMessage, endFrame, isActive, logSocketUrl, readLog, type Run, type RunState } from "../../api/deployments";
 import { ErrorMessage } from "../common/Status";
@@ -35,14 +35,20 @@ function useRunLog(run: Run, onEnd: () => void) {
       return () => controller.abort();
     }
     const socket = new WebSocket(logSocketUrl(run.id));
+    socket.binaryType = "arraybuffer";
+    // A chunk may end inside a character of several bytes: the decoder keeps it for the next.
+    const decoder = new TextDecoder();
     socket.onopen = () => socket.send(authMessage());
     socket.onmessage = (event: MessageEvent) => {
-      if (typeof event.data !== "string") return;
-      const frame = endFrame(event.data);
+      const data: unknown = event.data;
+      const frame = typeof data === "string" ? endFrame(data) : null;
       if (frame) {
         setEnd(frame);
         onEndRef.current();
-      } else setText((t) => (t + event.data).slice(-MAX_LOG_CHARS));
+        return;
+      }
+      const chunk = typeof data === "string" ? data : decoder.decode(data as ArrayBuffer, { stream: true });
+      setText((t) => (t + chunk).slice(-MAX_LOG_CHARS));
     };
     socket.onclose = (event: CloseEvent) => {
       if (controller.signal.aborted) return;
