@@ -34,6 +34,7 @@ from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import library as library_api
 from twinlink.api import mqtt as mqtt_api
+from twinlink.api import runs as runs_api
 from twinlink.api import workspaces as workspaces_api
 from twinlink.api.readiness import Readiness
 from twinlink.auth.last_used import LastUsed
@@ -47,6 +48,7 @@ from twinlink.config import Settings
 from twinlink.connectors.metrics import ConnectorCollector
 from twinlink.connectors.service import ConnectorService
 from twinlink.deploy.apply import Parts
+from twinlink.deploy.runs import RunService
 from twinlink.deploy.service import DeploymentService
 from twinlink.gateway.metrics import GatewayCollector
 from twinlink.gateway.proxy import GatewayApp
@@ -115,6 +117,7 @@ class Services:
     library: LibraryService | None = None
     deployments: DeploymentService | None = None  # twin packages deployed (deploy/)
     workspaces: WorkspaceService | None = None  # each user's JupyterLab (workspaces/)
+    runs: RunService | None = None  # deployments' lifecycle runs (deploy/runs.py)
 
 
 def build_services(settings: Settings) -> Services:
@@ -170,6 +173,8 @@ def build_services(settings: Settings) -> Services:
     services.processors.lib.library = services.library  # for `fmu: lib:...` (libref.py)
     services.search.library = services.library  # assets are found beside twins
     services.deployments = _deployment_service(settings, services, vault)
+    services.runs = RunService.configured(settings, store, auth, stores.holder, bool(stores.shared))
+    services.runs.serve(services.deployments)
     services.workspaces = _workspace_service(settings, services)
     return services
 
@@ -222,7 +227,6 @@ def _workspace_service(settings: Settings, services: Services) -> WorkspaceServi
 def _library_service(settings: Settings, store: MetadataStore) -> LibraryService:
     rights = LibraryRights(settings.library_curators, settings.fmu_uploaders)
     blobs = FileBlobStore(settings.data_dir / "library" / "blobs")
-    blobs.remove_stale_temps()  # left by pushes a crash cut off (a day old at least)
     # FMUs pushed to the library are checked as twins' uploads are (the library does not
     # import the processors: it is handed their check).
     return LibraryService(store, blobs, settings.library_max_mb * 2**20, rights, inspect_upload)
@@ -292,6 +296,9 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
         started.append(services.connectors.close)
         await services.mqtt.open()
         started.append(services.mqtt.close)
+        if services.runs is not None:  # runs a stop cut off are failed, their tokens revoked
+            await services.runs.open()
+            started.append(services.runs.close)
         if services.deployments is not None:  # creates a crash cut off are undone
             await services.deployments.open()
         if services.workspaces is not None:  # tokens a crash left are revoked
@@ -318,8 +325,8 @@ async def _stop_started(started: list[Callable[[], Awaitable[object]]]) -> None:
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
-    if services.deployments is not None:  # terminate/clean phases no longer waited for
-        await services.deployments.close()
+    if services.runs is not None:  # their process groups killed, the runs cancelled
+        await services.runs.close()
     if services.workspaces is not None:  # their JupyterLabs stop, their tokens are revoked
         await services.workspaces.close()
     await services.mqtt.close()  # waits for batches in flight and sends their PUBACKs
@@ -368,7 +375,7 @@ def create_app(
     app.state.readiness = Readiness(services.store, services.bus, settings.ready_timeout_s)
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api)
+    routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api)
     app.include_router(library_api.router)  # /api/v1/library
     for module in (*routers, *routers_more, workspaces_api, search, pages, app_ui):
         app.include_router(module.router)

@@ -168,6 +168,28 @@ class Settings(BaseSettings):
         description="The user group whose members (besides admins) write the library's common "
         "scope.",
     )
+    script_runners: Literal["admins", "owners"] = Field(
+        "admins",
+        description="Who may run a deployment's lifecycle scripts (docs/runs.md): admins, or "
+        "also the deployment's owner. A script runs as the server's OS user.",
+    )
+    runner_tags: str = Field(
+        "",
+        description="This node's runner tags, comma separated: a run whose package asks for "
+        "tags runs only on a node that has all of them.",
+    )
+    run_default_timeout_s: int = Field(
+        3600,
+        ge=0,
+        description="A lifecycle run's wall-clock limit in seconds when its package gives none; "
+        "0: none.",
+    )
+    run_default_memory_mb: int = Field(
+        2048,
+        ge=0,
+        description="A lifecycle run's address-space limit (RLIMIT_AS) in MB when its package "
+        "gives none; 0: none.",
+    )
     secret_key: SecretStr | None = Field(
         None,
         description="Key (Fernet, 44 URL-safe base64 characters) that encrypts the gateway's "

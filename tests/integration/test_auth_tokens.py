@@ -105,6 +105,7 @@ def _fill(path: str, world: World, slug: str) -> str:
         "stream": "telemetry",
         "command_id": "some-command",
         "name": "some-name",
+        "run_id": "1",
     }
 
     def sub(m: re.Match[str]) -> str:

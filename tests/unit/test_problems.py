@@ -19,7 +19,7 @@ from fastapi import FastAPI
 
 import twinlink
 from twinlink.api.problems import install
-from twinlink.auth.service import AuthError, LoginError
+from twinlink.auth.service import AuthError, LoginError, ScopeError
 from twinlink.bus.kafka.bus import KafkaBusError
 from twinlink.bus.kafka.codec import UnencodableMessageError
 from twinlink.commands.targets import DeviceChoiceError
@@ -189,6 +189,9 @@ CASES = [
     ),
     Case(
         LoginError("wrong username or password"), 401, "wrong username or password.", headers=BEARER
+    ),
+    Case(
+        ScopeError("this token is scoped to twin 'rig'"), 403, "this token is scoped to twin 'rig'."
     ),
     Case(QueryError("`start` is not a time"), 422, "`start` is not a time"),
     Case(ReadBudgetError("the read stopped"), 503, "the read stopped"),

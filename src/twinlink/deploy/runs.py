@@ -12,15 +12,19 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import os
 import shutil
+import signal
+import socket
 import time
 from collections.abc import AsyncIterator, Awaitable, Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, Protocol
 
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthService
+from twinlink.config import Settings
 from twinlink.deploy import runlog
 from twinlink.deploy.runenv import run_environment
 from twinlink.deploy.runner import Limits, Outcome, run_script
@@ -72,7 +76,46 @@ def _first(*values: int | None) -> int:
     return next(v for v in values if v is not None)
 
 
+def _kill_leftover(run: RunRecord, work: Path) -> None:
+    """A run's process group that outlived its server (killed with SIGKILL, it could not
+    stop it): killed, if its leader is still that run's (a session leader working in the
+    run's dir: a pid used again by another process is left alone)."""
+    if run.pid is None:
+        return
+    with contextlib.suppress(OSError):
+        if (
+            os.getpgid(run.pid) == run.pid
+            and Path(f"/proc/{run.pid}/cwd").resolve() == work.resolve()
+        ):
+            os.killpg(run.pid, signal.SIGKILL)
+
+
+def _node_gone(node: str) -> bool:
+    """Whether `node` (store/leases.py's `host:pid:random`) was a server of this host whose
+    process has ended."""
+    host, _, rest = node.partition(":")
+    pid = rest.partition(":")[0]
+    if host != socket.gethostname() or not pid.isdigit():
+        return False
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:  # alive, another user's
+        return False
+    return False
+
+
 TargetLoader = Callable[[RunRecord], Awaitable[RunTarget]]
+
+
+class Deployments(Protocol):
+    """The deployments' service as the runs see it: it starts runs, and rebuilds the target
+    of a run that another node queued."""
+
+    runs: Any
+
+    async def target_of(self, deployment_id: int) -> RunTarget: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,12 +126,23 @@ class RunSettings:
     tags: frozenset[str] = frozenset()  # this node's runner tags
     script_runners: Literal["admins", "owners"] = "admins"
     defaults: Limits = field(default_factory=lambda: Limits(3600, 2048))
-    # None: the only node (every unfinished run at start was this server's); else a LIKE
-    # pattern of the node names whose unfinished runs died with this node's last run.
-    interrupted_like: str | None = None
+    # Several nodes share the store: at start, only the unfinished runs of this host's
+    # nodes that are gone are this node's to fail (not every unfinished run is).
+    shared: bool = False
 
 
 class RunService:
+    @classmethod
+    def configured(
+        cls, settings: Settings, store: RunStore, auth: AuthService, node: str, shared: bool
+    ) -> RunService:
+        """The service as the settings have it: data_dir/runs, runner tags, limits."""
+        tags = frozenset(t.strip() for t in settings.runner_tags.split(",") if t.strip())
+        defaults = Limits(settings.run_default_timeout_s, settings.run_default_memory_mb)
+        config = RunSettings(settings.data_dir / "runs", settings.base_url, node, tags,
+                             settings.script_runners, defaults, shared)  # fmt: skip
+        return cls(store, auth, config)
+
     def __init__(self, store: RunStore, auth: AuthService, settings: RunSettings) -> None:
         self.store = store
         self.auth = auth
@@ -98,14 +152,22 @@ class RunService:
         self._tasks: dict[int, asyncio.Task[None]] = {}  # the runs this node runs
         self._poller: asyncio.Task[None] | None = None
 
+    def serve(self, deployments: Deployments | None) -> RunService:
+        """Run the lifecycle phases of `deployments` (None: there are none here)."""
+        if deployments is not None:
+            deployments.runs = self
+            self.target_loader = lambda run: deployments.target_of(run.deployment_id)
+        return self
+
     # -- life of the service ---------------------------------------------------------------
 
     async def open(self) -> None:
         self.settings.root.mkdir(parents=True, exist_ok=True)
-        failed = await self.store.fail_interrupted_runs(
-            self.settings.interrupted_like, INTERRUPTED, time.time_ns()
-        )
+        failed = await self._fail_interrupted()
         for run in failed:
+            await asyncio.to_thread(
+                _kill_leftover, run, runlog.work_dir(self.settings.root, run.id)
+            )
             if run.token_id is not None:
                 await self.auth.revoke_run_token(run.token_id)
             await asyncio.to_thread(self._note, run.id, f"failed: {INTERRUPTED}")
@@ -113,6 +175,18 @@ class RunService:
             log.warning("runs interrupted by a stop", extra={
                 "event": "runs_interrupted", "runs": [run.id for run in failed]})  # fmt: skip
         self._poller = asyncio.create_task(self._claim_loop(), name="runs-claim")
+
+    async def _fail_interrupted(self) -> list[RunRecord]:
+        """Mark failed the runs a server that stopped left unfinished: on the only node, all
+        of them; with a shared store, those of this host's nodes whose process is gone (a
+        queued run no node has claimed waits on)."""
+        now = time.time_ns()
+        if not self.settings.shared:
+            return await self.store.fail_interrupted_runs(None, INTERRUPTED, now)
+        active = await self.store.list_runs(states=("queued", "running"), limit=10_000)
+        gone = [run for run in active if run.node is not None and _node_gone(run.node)]
+        return [run for run in gone if await self.store.end_run(run.id, "failed", None,
+                                                                 INTERRUPTED, now)]  # fmt: skip
 
     async def close(self) -> None:
         """Cancel the runs of this node (their process groups killed, marked cancelled)."""

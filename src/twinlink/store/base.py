@@ -25,10 +25,11 @@ from twinlink.domain.records import (
 )
 from twinlink.store.deployments import DeploymentStore
 from twinlink.store.library import LibraryStore
+from twinlink.store.runs import RunStore
 from twinlink.store.search import SearchStore
 
 
-class MetadataStore(SearchStore, DeploymentStore, LibraryStore, Protocol):
+class MetadataStore(SearchStore, DeploymentStore, LibraryStore, RunStore, Protocol):
     async def open(self) -> None: ...
     async def close(self) -> None: ...
     async def ping(self) -> bool: ...
@@ -65,6 +66,8 @@ class MetadataStore(SearchStore, DeploymentStore, LibraryStore, Protocol):
         kind: str,
         now_ns: int,
         expires_ns: int | None,
+        *,
+        scope: str | None = None,
     ) -> ApiToken: ...
     async def find_token(self, token_hash: bytes) -> tuple[ApiToken, User] | None: ...
     async def touch_tokens(self, times: Mapping[int, int]) -> None: ...

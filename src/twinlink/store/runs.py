@@ -81,6 +81,7 @@ class RunStore(Protocol):
         self, node_like: str | None, error: str, now_ns: int
     ) -> list[RunRecord]:
         """Mark failed the runs left queued or running by a node that stopped: those whose
-        node matches the SQL LIKE pattern `node_like`, or every one when it is None. They are
-        returned as they were (their token ids, to revoke)."""
+        node matches the SQL LIKE pattern `node_like`, or every one a node took when it is
+        None (a queued run no node took waits on). They are returned as they were (their
+        token ids, to revoke)."""
         ...

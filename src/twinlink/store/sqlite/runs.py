@@ -90,7 +90,7 @@ class RunTables:
     async def fail_interrupted_runs(
         self, node_like: str | None, error: str, now_ns: int
     ) -> list[RunRecord]:
-        mine = "" if node_like is None else " AND node LIKE ?"
+        mine = " AND node IS NOT NULL" if node_like is None else " AND node LIKE ?"
         args = () if node_like is None else (node_like,)
 
         def _fail(c: sqlite3.Connection) -> list[RunRecord]:

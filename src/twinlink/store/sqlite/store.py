@@ -12,6 +12,7 @@ from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.gateway import GatewayTables
 from twinlink.store.sqlite.library import LibraryTables
 from twinlink.store.sqlite.processors import ProcessorTables
+from twinlink.store.sqlite.runs import RunTables
 from twinlink.store.sqlite.search import SearchTables
 from twinlink.store.sqlite.twins import TwinTables
 from twinlink.store.sqlite.users import UserTables
@@ -27,6 +28,7 @@ class SqliteStore(
     ConnectorTables,
     DeploymentTables,
     LibraryTables,
+    RunTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""

@@ -81,7 +81,7 @@ class RunTables:
         async with self.db.transaction() as conn:
             rows = await conn.fetch(
                 f"SELECT {COLUMNS} FROM runs WHERE {_ACTIVE}"
-                " AND ($1::text IS NULL OR node LIKE $1) ORDER BY id FOR UPDATE",
+                " AND node LIKE COALESCE($1::text, '%') ORDER BY id FOR UPDATE",
                 node_like,
             )
             runs = [run_of(r) for r in rows]

@@ -10,6 +10,7 @@ from twinlink.store.postgres.metadata.devices import DeviceTables
 from twinlink.store.postgres.metadata.gateway import GatewayTables
 from twinlink.store.postgres.metadata.library import LibraryTables
 from twinlink.store.postgres.metadata.processors import ProcessorTables
+from twinlink.store.postgres.metadata.runs import RunTables
 from twinlink.store.postgres.metadata.search import SearchTables
 from twinlink.store.postgres.metadata.twins import TwinTables
 from twinlink.store.postgres.metadata.users import UserTables
@@ -25,6 +26,7 @@ class PostgresMetadataStore(
     ConnectorTables,
     DeploymentTables,
     LibraryTables,
+    RunTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""
