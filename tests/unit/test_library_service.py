@@ -15,7 +15,7 @@ import pytest
 
 from tests.unit._storage import Stores
 from tests.unit._storage import stores as stores
-from twinlink.auth.rights import Principal
+from twinlink.auth.rights import ANONYMOUS, Principal
 from twinlink.domain.errors import (
     ConflictError,
     ForbiddenError,
@@ -130,6 +130,10 @@ async def test_a_private_asset_reads_as_missing_and_common_needs_a_curator(
         await library.resolve(BOB, "lib:user:alice/data/secret")
     with pytest.raises(NotFoundError):  # the same answer as for nothing at all
         await library.resolve(BOB, "lib:user:alice/data/nothing")
+    with pytest.raises(NotFoundError, match="sign in"):
+        await library.resolve(ANONYMOUS, "lib:data/secret")
+    with pytest.raises(NotFoundError):
+        await library.resolve(ANONYMOUS, "lib:common/data/secret")
     with pytest.raises(NotFoundError):
         await _push(library, BOB, "user:alice", "data", "secret", "y")
     with pytest.raises(ForbiddenError, match="curators"):

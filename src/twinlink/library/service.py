@@ -108,7 +108,8 @@ class LibraryService(LibraryChanges):
             asset = await self.store.get_asset(scope, kind, name)
             if asset is not None:
                 return asset
-        raise NotFoundError(f"the library has no {kind}/{name} in {', '.join(order)}")
+        where = ", ".join(order) or "any scope (sign in to read the library)"
+        raise NotFoundError(f"the library has no {kind}/{name} in {where}")
 
     async def file_path(self, resolved: Resolved) -> Path:
         """The local path of the file `resolved` names (its #path or its only file)."""
