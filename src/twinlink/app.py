@@ -227,6 +227,7 @@ def _workspace_service(settings: Settings, services: Services) -> WorkspaceServi
 def _library_service(settings: Settings, store: MetadataStore) -> LibraryService:
     rights = LibraryRights(settings.library_curators, settings.fmu_uploaders)
     blobs = FileBlobStore(settings.data_dir / "library" / "blobs")
+    blobs.remove_stale_temps()  # left by pushes a crash cut off (a day old at least)
     # FMUs pushed to the library are checked as twins' uploads are (the library does not
     # import the processors: it is handed their check).
     return LibraryService(store, blobs, settings.library_max_mb * 2**20, rights, inspect_upload)
