@@ -136,7 +136,25 @@ describe("SearchPanel", () => {
     mockFetch(() => jsonResponse({ ...ANSWER, query: "zzz", total: 0, hits: [], facets: { keywords: [] } }));
     renderPanel();
     fireEvent.change(screen.getByLabelText("Search twins and features"), { target: { value: "zzz" } });
-    expect(await screen.findByText(/No twin matches/)).toBeInTheDocument();
+    expect(await screen.findByText(/No twin or library asset matches/)).toBeInTheDocument();
+  });
+});
+
+describe("library assets among the hits", () => {
+  it("lists an asset after the twins, linked to its place in the library", async () => {
+    const asset = {
+      kind: "asset", slug: null, name: "tingen-beam", score: 0, matches: [], ref: "common/models/tingen-beam",
+      scope: "common", asset_kind: "models", description: "the beam's first mode",
+    };
+    mockFetch(() => jsonResponse({ ...ANSWER, total: 2, hits: [{ kind: "twin", ...ANSWER.hits[0] }, asset] }));
+    renderPanel();
+    fireEvent.change(screen.getByLabelText("Search twins and features"), { target: { value: "crane" } });
+    const link = await screen.findByRole("link", { name: "tingen-beam" });
+    expect(link).toHaveAttribute("href", "/library?asset=common%2Fmodels%2Ftingen-beam");
+    const hits = link.closest("ol")!.querySelectorAll(":scope > li");
+    expect([...hits].map((li) => li.querySelector(".hit-title a")?.textContent)).toEqual(["Ilmatar crane", "tingen-beam"]);
+    expect(link.closest("li")).toHaveTextContent("common/models/tingen-beammodelsthe beam's first mode");
+    expect(screen.getByText("2 matches.")).toBeInTheDocument();
   });
 });
 
