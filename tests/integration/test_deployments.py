@@ -198,15 +198,16 @@ def test_terminate_with_purge_removes_the_twin(server: Server, user: str) -> Non
 
 def test_an_apply_that_fails_half_way_leaves_nothing(server: Server, user: str) -> None:
     name = unique("half")
-    broken = TWIN_YAML + "  - {name: bad, blueprint: lowpass, source: telemetry, params: {}}\n"
+    # Connectors are for admins: the connector service refuses it once the twin, the device
+    # and the processors are made.
+    broken = TWIN_YAML + "connectors:\n  - {name: plc, kind: udp, device: rig}\n"
     with server.client(user) as c:
         push(c, "broken", {"twin.yaml": broken})
         r = c.post("/api/v1/deployments", json={"package": "broken", "name": name})
-        problem = assert_problem(r, 422)
-        assert "params" in problem["detail"]
+        assert_problem(r, 403)
         failed = c.get(f"/api/v1/deployments/{name}").json()
         assert failed["state"] == "failed", failed
-        assert failed["error"].startswith("making processor 'bad' failed: params"), failed
+        assert failed["error"].startswith("making connector 'plc' failed:"), failed
         assert failed["resources"]["processors"] == []
         assert_problem(c.get(f"/api/v1/twins/{name}"), 404)  # devices, processors with it
     with server.admin as admin:
@@ -251,6 +252,14 @@ def test_bad_requests_are_named(server: Server, user: str) -> None:
         assert "${params.cut}" in problem["errors"][0]["message"]
         r = c.post("/api/v1/deployments", json={"package": "nothing-here", "name": unique("p")})
         assert_problem(r, 404)
+        # what a processor's service would refuse for its settings is refused in the plan
+        bad = TWIN_YAML + "  - {name: bad, blueprint: lowpass, source: telemetry, params: {}}\n"
+        push(c, "bad-processor", {"twin.yaml": bad})
+        body = {"package": "bad-processor", "name": unique("p")}
+        r = c.post("/api/v1/deployments", params={"dry_run": "true"}, json=body)
+        assert assert_problem(r, 422)["detail"].startswith("processor 'bad': params")
+        assert c.post("/api/v1/deployments", json=body).status_code == 422
+        assert_problem(c.get(f"/api/v1/deployments/{body['name']}"), 404)  # nothing stored
 
 
 def test_others_see_a_deployment_only_with_its_twin(server: Server, user: str) -> None:

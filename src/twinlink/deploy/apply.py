@@ -19,10 +19,11 @@ from pydantic import ValidationError
 from twinlink.auth.rights import Principal
 from twinlink.connectors.service import ConnectorService
 from twinlink.deploy.plan import ORDER, Plan, Resource, canonical, shown
+from twinlink.domain.document import validate_part
 from twinlink.domain.errors import InvalidInputError, NotFoundError, TwinlinkError
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.gateway.service import GatewayService
-from twinlink.processors.checks import first_errors
+from twinlink.processors.checks import checked_spec, first_errors
 from twinlink.processors.service import ProcessorService
 from twinlink.processors.spec import ProcessorSpec
 from twinlink.registry.devices import DeviceService
@@ -51,6 +52,19 @@ class Parts:
             "spec": shown(resource),
             "fingerprint": self.fingerprint(canonical(resource.spec)),
         }
+
+    def check(self, resource: Resource) -> None:
+        """Refuse before anything is made what its service would refuse for its content
+        alone: a processor's settings and the twin's document. What depends on the state of
+        the platform (a name taken, a right) is found when it is made."""
+        where = f"{resource.type} {resource.name!r}"
+        try:
+            if resource.type == "processor":
+                checked_spec(resource.spec, self.processors.catalog)
+            elif resource.type == "twin":
+                validate_part(SourceDocument(resource.spec))
+        except InvalidInputError as err:
+            raise InvalidInputError(f"{where}: {err}") from err
 
     async def make(
         self, principal: Principal, slug: str, resource: Resource, running: bool

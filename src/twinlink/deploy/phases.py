@@ -1,6 +1,7 @@
-"""Lifecycle phases run one after another in the background: a terminated deployment's
-`terminate` and then `clean`. The request that terminates does not wait for scripts that may
-run for minutes; the runs are recorded, with their logs, as any other."""
+"""A deployment's lifecycle phases, as runs of the runs' service (runs.py): started when the
+package has their script, refused up front to who may not run scripts, and a terminated
+deployment's `terminate` then `clean` run one after another in the background (the request
+that terminates does not wait for scripts that may run for minutes)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,10 @@ from collections.abc import Awaitable, Callable
 from typing import Any, Protocol
 
 from twinlink.auth.rights import Principal
+from twinlink.deploy.loading import Library, Loaded
 from twinlink.deploy.runs import RunTarget
+from twinlink.deploy.targets import run_target
+from twinlink.domain.deployments import DeploymentRecord
 from twinlink.domain.errors import TwinlinkError
 
 log = logging.getLogger("twinlink.deploy")
@@ -27,20 +31,58 @@ class PhaseRuns(Protocol):
     async def get(self, run_id: int) -> Any: ...
 
 
-class PhaseChains:
-    def __init__(self, runs: PhaseRuns) -> None:
-        self.runs = runs
+class Phases:
+    def __init__(self, library: Library | None) -> None:
+        self.library = library
+        self.runs: PhaseRuns | None = None  # None: no runs on this server (phases skipped)
         self._tasks: set[asyncio.Task[None]] = set()
 
-    def start(
+    @property
+    def ready(self) -> bool:
+        return self.runs is not None and self.library is not None
+
+    def target(
+        self, record: DeploymentRecord, loaded: Loaded, device_tokens: dict[str, str]
+    ) -> RunTarget:
+        if self.library is None:
+            raise TwinlinkError("the library is not available on this server")
+        return run_target(self.library, record, loaded, device_tokens)
+
+    def check(
+        self, principal: Principal, owner_id: int | None, loaded: Loaded | None, *phases: str
+    ) -> None:
+        """Refuse before anything is changed when a phase the request would start may not
+        be run by the caller (setting script_runners)."""
+        if loaded is None or self.runs is None:
+            return
+        if any(loaded.has_phase(p) for p in phases):
+            self.runs.check_may_run(principal, owner_id)
+
+    async def start(
+        self,
+        principal: Principal,
+        record: DeploymentRecord,
+        loaded: Loaded | None,
+        phase: str,
+        device_tokens: dict[str, str],
+    ) -> None:
+        """Start the phase's run when the package has its script."""
+        if self.runs is not None and loaded is not None and loaded.has_phase(phase):
+            await self.runs.start(principal, self.target(record, loaded, device_tokens), phase)
+
+    async def cancel(self, deployment_id: int, phase: str) -> None:
+        if self.runs is not None:
+            await self.runs.cancel_phase(deployment_id, phase)
+
+    def in_turn(
         self,
         principal: Principal,
         target: RunTarget,
         phases: list[str],
         then: Callable[[], Awaitable[None]],
     ) -> None:
-        """Run `phases` in order, each once the one before has ended (however it ended), then
-        call `then` (whatever happened)."""
+        """Run `phases` in order in the background, each once the one before has ended
+        (however it ended), then call `then` (whatever happened)."""
         task = asyncio.create_task(self._chain(principal, target, phases, then))
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
@@ -54,6 +96,7 @@ class PhaseChains:
     ) -> None:
         try:
             for phase in phases:
+                assert self.runs is not None
                 run = await self.runs.start(principal, target, phase)
                 while not (await self.runs.get(run.id)).ended:
                     await asyncio.sleep(POLL_S)

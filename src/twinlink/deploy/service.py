@@ -18,10 +18,9 @@ from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.vault import Vault
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.loading import Library, Loaded, Where, check_name, load, package_ref
-from twinlink.deploy.phases import PhaseChains, PhaseRuns
+from twinlink.deploy.phases import PhaseRuns, Phases
 from twinlink.deploy.plan import Plan, canonical, plan_change, plan_create
 from twinlink.deploy.runs import RunTarget
-from twinlink.deploy.targets import run_target
 from twinlink.domain.deployments import DeploymentRecord
 from twinlink.domain.errors import (
     ConflictError,
@@ -60,8 +59,8 @@ class DeploymentService:
         self.library = library
         self.vault = vault
         self.server_url = server_url.rstrip("/")
-        self.chains: PhaseChains | None = None
-        self.runs = runs
+        self.phases = Phases(library)
+        self.phases.runs = runs
         # One change of deployments at a time: a plan is applied against what it read.
         self._lock = asyncio.Lock()
 
@@ -76,16 +75,14 @@ class DeploymentService:
     @property
     def runs(self) -> PhaseRuns | None:
         """The lifecycle runs, when set up (app.py sets them once both services exist)."""
-        return self._runs
+        return self.phases.runs
 
     @runs.setter
     def runs(self, runs: PhaseRuns | None) -> None:
-        self._runs = runs
-        self.chains = PhaseChains(runs) if runs is not None else None
+        self.phases.runs = runs
 
     async def close(self) -> None:
-        if self.chains is not None:
-            await self.chains.close()
+        await self.phases.close()
 
     # -- reading ---------------------------------------------------------------------------
 
@@ -123,7 +120,10 @@ class DeploymentService:
         if self.library is None:
             raise TwinlinkError("the library is not available on this server")
         where = Where(name, self.parts.registry.canonical_url(name), self.server_url)
-        return await load(self.library, principal, ref, parameters, where)
+        loaded = await load(self.library, principal, ref, parameters, where)
+        for resource in loaded.resources:
+            self.parts.check(resource)
+        return loaded
 
     async def plan(
         self, principal: Principal, package: str, name: Any, parameters: Any, scope: str | None
@@ -149,7 +149,7 @@ class DeploymentService:
         name = check_name(name)
         loaded = await self._load(principal, package_ref(package, scope), parameters, name)
         if not planned:
-            self._may_run_phases(principal, user.id, loaded, "create", *(["execute"] * start))
+            self.phases.check(principal, user.id, loaded, "create", *(["execute"] * start))
         async with self._lock:
             await self._name_free(name)
             now = time.time_ns()
@@ -181,7 +181,7 @@ class DeploymentService:
         if not (principal.is_admin or (principal.user and principal.user.id == record.created_by)):
             raise ForbiddenError(f"only who planned {name!r} (or an admin) may create it")
         loaded = await self._load(principal, record.package, record.parameters, name)
-        self._may_run_phases(principal, record.created_by, loaded, "create")
+        self.phases.check(principal, record.created_by, loaded, "create")
         async with self._lock:
             await self._name_free(name, twin_only=True)
             record.state = "applying"
@@ -230,9 +230,9 @@ class DeploymentService:
             raise
         record.state = "running" if start else "created"
         await self._save(record)
-        await self._phase(principal, record, loaded, "create")
+        await self.phases.start(principal, record, loaded, "create", tokens)
         if start:
-            await self._phase(principal, record, loaded, "execute")
+            await self.phases.start(principal, record, loaded, "execute", tokens)
         return tokens
 
     async def _fail(self, record: DeploymentRecord, error: str) -> None:
@@ -252,33 +252,15 @@ class DeploymentService:
         record.updated_ns = time.time_ns()
         await self.store.save_deployment(record)
 
-    async def _phase(
-        self, principal: Principal, record: DeploymentRecord, loaded: Loaded | None, phase: str
-    ) -> None:
-        """Start a lifecycle phase's run when the package has its script (and runs are set
-        up on this server); the run goes on without the request waiting for it."""
-        if self.runs is None or self.library is None or loaded is None:
-            return
-        if loaded.has_phase(phase):
-            target = run_target(self.library, record, loaded, self.device_tokens(record))
-            await self.runs.start(principal, target, phase)
-
-    def _may_run_phases(
-        self, principal: Principal, owner_id: int | None, loaded: Loaded, *phases: str
-    ) -> None:
-        """Refuse before anything is made when a phase the request starts may not run."""
-        if self.runs is not None and any(loaded.has_phase(p) for p in phases):
-            self.runs.check_may_run(principal, owner_id)
-
     async def run_phase(self, principal: Principal, name: str, phase: str) -> Any:
         """Start a run of any phase of the deployment's package (POST .../runs); the run."""
         record = await self.get(principal, name)
-        if self.runs is None or self.library is None:
+        if self.runs is None:
             raise TwinlinkError("lifecycle runs are not set up on this server")
         if not record.live or record.state == "planned":
             raise ConflictError(f"deployment {name!r} is {record.state}: it has nothing to run")
         loaded = await self._load(SYSTEM, record.package, record.parameters, record.name)
-        target = run_target(self.library, record, loaded, self.device_tokens(record))
+        target = self.phases.target(record, loaded, self.device_tokens(record))
         return await self.runs.start(principal, target, phase)
 
     async def target_of(self, deployment_id: int) -> RunTarget:
@@ -287,7 +269,7 @@ class DeploymentService:
         if record is None or self.library is None:
             raise NotFoundError(f"no deployment {deployment_id}")
         loaded = await self._load(SYSTEM, record.package, record.parameters, record.name)
-        return run_target(self.library, record, loaded, self.device_tokens(record))
+        return self.phases.target(record, loaded, self.device_tokens(record))
 
     # -- lifecycle -------------------------------------------------------------------------
 
@@ -299,13 +281,12 @@ class DeploymentService:
         if record.state not in ("created", "stopped"):
             raise ConflictError(f"deployment {name!r} is {record.state}; create it first")
         loaded = await self._pinned(record)
-        if loaded is not None:
-            self._may_run_phases(principal, record.created_by, loaded, "execute")
+        self.phases.check(principal, record.created_by, loaded, "execute")
         async with self._lock:
             await self.parts.set_running(principal, record.twin, record.journal, True)
             record.state = "running"
             await self._save(record)
-        await self._phase(principal, record, loaded, "execute")
+        await self.phases.start(principal, record, loaded, "execute", self.device_tokens(record))
         return record
 
     async def stop(self, principal: Principal, name: str) -> DeploymentRecord:
@@ -316,8 +297,7 @@ class DeploymentService:
         if record.state != "running":
             raise ConflictError(f"deployment {name!r} is {record.state}, not running")
         async with self._lock:
-            if self.runs is not None:
-                await self.runs.cancel_phase(record.id, "execute")
+            await self.phases.cancel(record.id, "execute")
             await self.parts.set_running(principal, record.twin, record.journal, False)
             record.state = "stopped"
             await self._save(record)
@@ -329,11 +309,9 @@ class DeploymentService:
         record = await self._changeable(principal, name)
         loaded = await self._pinned(record)
         ending = [p for p in ("terminate", "clean") if loaded and loaded.has_phase(p)]
-        if loaded is not None:
-            self._may_run_phases(principal, record.created_by, loaded, *ending)
+        self.phases.check(principal, record.created_by, loaded, *ending)
         async with self._lock:
-            if self.runs is not None:
-                await self.runs.cancel_phase(record.id, "execute")
+            await self.phases.cancel(record.id, "execute")
             while record.journal and (purge or record.journal[-1]["type"] != "twin"):
                 entry = record.journal[-1]
                 await self.parts.remove(principal, record.twin, entry["type"], entry["name"])
@@ -341,11 +319,11 @@ class DeploymentService:
                 await self._save(record)
             record.state, record.secrets = "terminated", None
             await self._save(record)
-        if self.chains is None or self.library is None or loaded is None or not ending:
+        if not self.phases.ready or loaded is None or not ending:
             await self._release(record)
         else:  # the versions stay held until the scripts have had their files
-            target = run_target(self.library, record, loaded, {})
-            self.chains.start(principal, target, ending, lambda: self._release(record))
+            target = self.phases.target(record, loaded, {})
+            self.phases.in_turn(principal, target, ending, lambda: self._release(record))
         return record
 
     async def reconfigure(
@@ -379,9 +357,15 @@ class DeploymentService:
                 await self._save(record)
 
             running = record.state == "running"
-            tokens = await self.parts.apply_plan(
-                principal, record.twin, plan, record.journal, running, saved
-            )
+            try:
+                tokens = await self.parts.apply_plan(
+                    principal, record.twin, plan, record.journal, running, saved
+                )
+            except TwinlinkError as err:
+                record.error = f"reconfiguring stopped part way (resources list what is): {err}"
+                await self._save(record)
+                raise
+            record.error = None
             if tokens:
                 record.secrets = self.vault.seal({**self.device_tokens(record), **tokens})
             record.package, record.parameters = loaded.pinned, loaded.parameters
