@@ -157,6 +157,24 @@ def test_a_taken_opcua_port_is_replaced_and_the_connector_reaches_its_own_server
         assert health["status"] == "up", (service["name"], health)
 
 
+def test_tingen_is_deployed_from_its_package_with_its_rig_as_the_execute_phase(
+    demo: Demo,
+) -> None:
+    deployment = demo.get("/api/v1/deployments/tingen")
+    assert deployment["state"] == "running", deployment
+    assert deployment["package"].startswith("lib:common/twins/tingen-rig@sha256:")
+    fmu = demo.get("/api/v1/twins/tingen/processors/fmu")
+    assert fmu["params"]["fmu"].startswith("lib:common/models/tingen-beam@sha256:")
+    runs = demo.get("/api/v1/deployments/tingen/runs")["runs"]
+    assert [r["state"] for r in runs if r["phase"] == "execute"] == ["running"], runs
+
+    def computed() -> int:
+        streams = demo.get("/api/v1/twins/tingen/streams")["streams"]
+        return sum(s["samples"] for s in streams if s["name"] == "fmu")
+
+    poll_until(lambda: computed() > 0, "the FMU's output on the rig's stream", 60)
+
+
 def test_its_output_is_worth_reading_from_start_to_ctrl_c(demo: Demo) -> None:
     started = demo.output
     [twins] = [line for line in demo.lines if "Demo twins:" in line]

@@ -35,15 +35,18 @@ async def admin_principal(services: Services) -> Principal | None:
 
 
 async def load_examples(
-    services: Services, folder: Path, rewrite: Callable[[str], str] | None = None
+    services: Services,
+    folder: Path,
+    rewrite: Callable[[str], str] | None = None,
+    skip: tuple[Path, ...] = (),
 ) -> list[str]:
-    """Apply every example document as the admin (each through `rewrite` first, when given);
-    already-loaded ones stay unchanged. One "slug (outcome)" per twin."""
+    """Apply every example document as the admin (each through `rewrite` first, when given)
+    but those in `skip`; already-loaded ones stay unchanged. One "slug (outcome)" per twin."""
     principal = await admin_principal(services)
     if principal is None:
         return []
     outcomes: dict[str, set[str]] = {}
-    for path in example_files(folder):
+    for path in (p for p in example_files(folder) if p not in skip):
         try:
             text = path.read_text("utf-8")
             body = (rewrite(text) if rewrite else text).encode()

@@ -14,7 +14,8 @@ from twinlink.auth.service import Bootstrap
 from twinlink.config import Settings
 from twinlink.server import mqtt_port_free, print_bootstrap, serve
 from twinlink_demo.crane import start_crane_services, start_demo_crane
-from twinlink_demo.examples import load_examples
+from twinlink_demo.deployed import can_deploy, deploy_tingen
+from twinlink_demo.examples import admin_principal, load_examples
 from twinlink_demo.tingen import start_demo_fmu, start_demo_simulator
 
 Stop = Callable[[], Awaitable[None]]
@@ -79,17 +80,16 @@ async def start_demo(
     ("slug (outcome)") and the function that stops what was started."""
     # The crane's services first: the documents name the ports they really got.
     crane = await start_crane_services()
-    loaded = await load_examples(services, examples, crane.documents if crane else None)
-    stop_simulator = await start_demo_simulator(services, settings.base_url)
-    notes = [await start_demo_fmu(services, examples)]
+    deploy = await can_deploy(services)  # Tingen from its package: not from its document
+    skip = (examples / "tingen" / "tingen.yaml",) if deploy else ()
+    loaded = await load_examples(services, examples, crane.documents if crane else None, skip)
+    notes, stop_simulator = await _start_tingen(services, settings, examples, deploy, loaded)
     stop_crane: Stop | None = None
     if crane is not None:
         crane_note, stop_crane = await start_demo_crane(services, crane)
         notes.append(crane_note)
     if stop_simulator is None:
         notes = []  # no Tingen twin: nothing of the demo runs
-    else:
-        notes.insert(0, "Tingen streams live from a simulated rig (device tingenSAP).")
     if services.mqtt.port is not None:
         notes.append(
             f"Devices may publish over MQTT to {settings.mqtt_host}:{services.mqtt.port}, "
@@ -102,6 +102,24 @@ async def start_demo(
                 await stop()
 
     return notes, loaded, stop_all
+
+
+async def _start_tingen(
+    services: Services, settings: Settings, examples: Path, deploy: bool, loaded: list[str]
+) -> tuple[list[str | None], Stop | None]:
+    """Tingen deployed from its package (`deploy`) or, without the library or on an older
+    demo's data, made directly; the welcome's lines and the function that stops its rig. A
+    deployed twin is added to `loaded`."""
+    principal = await admin_principal(services)
+    if deploy and principal is not None:
+        twin, notes, stop = await deploy_tingen(services, principal, examples, settings.base_url)
+        if twin is not None:
+            loaded.append(twin)
+        return notes, stop
+    stop_simulator = await start_demo_simulator(services, settings.base_url)
+    notes = ["Tingen streams live from a simulated rig (device tingenSAP).",
+             await start_demo_fmu(services, examples)]  # fmt: skip
+    return notes, stop_simulator
 
 
 def _welcome(
