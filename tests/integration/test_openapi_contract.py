@@ -20,7 +20,8 @@ import pytest
 
 from tests.conftest import ROOT, FmuFiles, Server
 from tests.integration._contract import Contract
-from tests.integration._util import YAML_HEADERS, make_user, twin_doc, unique
+from tests.integration._runs import tar_of
+from tests.integration._util import YAML_HEADERS, make_user, poll_until, twin_doc, unique
 
 pytestmark = pytest.mark.integration
 UI = ROOT / "ui"
@@ -123,6 +124,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _system(walk)
     _library(walk)
     _deployments(walk)
+    _runs(walk)
     _removals(walk)
     answered = {(m, p) for m, p, status in walk.contract.seen if 200 <= status < 300}
     assert walk.contract.operations() - answered == set()
@@ -330,6 +332,21 @@ def _deployments(w: Walk) -> None:
     w.ok(w.admin.patch(f"/api/v1/deployments/{name}", json={"parameters": {"n": "b"}}))
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/start"))
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/stop"))
+    w.ok(w.admin.post(f"/api/v1/deployments/{name}/terminate", json={"purge": True}))
+
+
+def _runs(w: Walk) -> None:
+    name = f"{w.slug}-runs"
+    package = tar_of({"twin.yaml": "description: runs\n", "lifecycle/analyze": "echo ok\n"})
+    w.ok(w.admin.post("/api/v1/library/me/twins/contract-runs/versions",
+                      params={"format": "tar"}, content=package), 201)  # fmt: skip
+    w.ok(w.admin.post("/api/v1/deployments", json={"package": "contract-runs", "name": name}), 201)
+    run = w.ok(w.admin.post(f"/api/v1/deployments/{name}/runs", json={"phase": "analyze"}), 202)
+    poll_until(lambda: w.ok(w.admin.get(f"/api/v1/runs/{run['id']}"))["state"] == "succeeded",
+               "the run to succeed")  # fmt: skip
+    w.ok(w.admin.get(f"/api/v1/deployments/{name}/runs"))
+    w.ok(w.admin.get(f"/api/v1/runs/{run['id']}/log"))
+    w.ok(w.admin.post(f"/api/v1/runs/{run['id']}/cancel"))
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/terminate", json={"purge": True}))
 
 

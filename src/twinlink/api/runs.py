@@ -191,7 +191,7 @@ async def get_run(run_id: RowId, caller: Caller, request: Request) -> JSONAnswer
     "/runs/{run_id}/log",
     summary="The run's log (stdout and stderr) from byte `offset`, as far as it is written",
     response_class=StreamingResponse,
-    responses={200: {"content": {"text/plain": {}}}},
+    responses={200: {"content": {"text/plain": {"schema": {"type": "string"}}}}},
 )
 async def get_log(
     run_id: RowId,
