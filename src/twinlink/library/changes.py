@@ -67,7 +67,7 @@ class LibraryChanges:
     async def sweep(self, sha256s: Iterable[str]) -> int:
         """Delete those blobs no version lists any more; returns how many."""
         wanted = set(sha256s)
-        async with self._blob_lock:
+        async with self._blob_lock, self.store.blob_lock():
             unused = wanted - await self.store.referenced_blobs(wanted)
             for sha256 in unused:
                 await self.blobs.delete(sha256)

@@ -4,7 +4,8 @@ Processors, deployments and the API come here; rights are checked here (library/
 files go through the blob store, rows through the store. A push unpacks into blobs first and
 then writes the version's rows in one transaction; a blob no version lists any more (after a
 delete, or a push refused after unpacking) is swept under the same lock that a push's final
-step takes, so a sweep never removes a blob a push is about to list.
+step takes (the process's, and the store's for the nodes that share it), so a sweep never
+removes a blob a push is about to list.
 """
 
 from __future__ import annotations
@@ -185,7 +186,7 @@ class LibraryService(LibraryChanges):
                 created_by=_username(principal),
                 created_ns=time.time_ns(),
             )
-            async with self._blob_lock:
+            async with self._blob_lock, self.store.blob_lock():
                 await self._check_blobs(files)
                 asset, stored, created = await self.store.put_version(
                     scope, kind, name, version, tags, fields, version.created_ns

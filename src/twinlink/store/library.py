@@ -8,6 +8,7 @@ transaction, so a push lands whole (asset, version and tags) or not at all.
 from __future__ import annotations
 
 from collections.abc import Iterable
+from contextlib import AbstractAsyncContextManager
 from dataclasses import asdict, dataclass
 from typing import Any, Protocol
 
@@ -116,6 +117,11 @@ class LibraryStore(Protocol):
 
     async def referenced_blobs(self, sha256s: Iterable[str]) -> set[str]:
         """Those of `sha256s` that some version of some asset still lists."""
+        ...
+
+    def blob_lock(self) -> AbstractAsyncContextManager[None]:
+        """Held while blobs are swept and while a push checks its blobs and adds its version,
+        by every node that shares the store (one process alone: nothing to hold)."""
         ...
 
 

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import sqlite3
-from collections.abc import Iterable
+from collections.abc import AsyncIterator, Iterable
+from contextlib import asynccontextmanager
 
 import orjson
 
@@ -278,6 +279,12 @@ class LibraryTables:
                 )
             }
         )
+
+    @asynccontextmanager
+    async def blob_lock(self) -> AsyncIterator[None]:
+        # One process has the SQLite file (workers share PostgreSQL): the service's own
+        # lock is enough.
+        yield
 
 
 def _set_tag(c: sqlite3.Connection, asset_id: int, tag: str, digest: str, now_ns: int) -> None:

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import AsyncIterator, Iterable
+from contextlib import asynccontextmanager
 
 import orjson
 
@@ -17,6 +18,9 @@ from twinlink.store.library import (
 )
 from twinlink.store.postgres.db import Connection, PostgresDatabase
 
+# The advisory lock of the library's blobs (beside twins.py's relations lock): a sweep on
+# one node and a push on another take turns.
+_BLOB_LOCK = 0x7477_6C6E_6B00_0020
 _LIKE_ESCAPE = str.maketrans({"%": r"\%", "_": r"\_", "\\": r"\\"})
 
 
@@ -250,6 +254,17 @@ class LibraryTables:
                 wanted,
             )
         return {r["sha256"] for r in rows}
+
+    @asynccontextmanager
+    async def blob_lock(self) -> AsyncIterator[None]:
+        # A session lock on a connection of its own: held across the blob deletes or the
+        # push's last step, which are not one transaction.
+        async with self.db.connection() as conn:
+            await conn.execute("SELECT pg_advisory_lock($1)", _BLOB_LOCK)
+            try:
+                yield
+            finally:
+                await conn.execute("SELECT pg_advisory_unlock($1)", _BLOB_LOCK)
 
 
 async def _set_tag(conn: Connection, asset_id: int, tag: str, digest: str, now_ns: int) -> None:
