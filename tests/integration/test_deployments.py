@@ -281,3 +281,20 @@ def test_others_see_a_deployment_only_with_its_twin(server: Server, user: str) -
         assert r.status_code in (403, 404), r.text
     with server.admin as admin:
         assert admin.get(f"/api/v1/deployments/{name}").json()["state"] == "created"
+
+
+def test_a_changed_document_updates_the_twin_in_place(server: Server, user: str) -> None:
+    name = unique("doc")
+    with server.client(user) as c:
+        deploy(c, name, parameters={"label": "Old"})
+        r = c.patch(f"/api/v1/deployments/{name}", json={"parameters": {"label": "New"}})
+        assert r.status_code == 200, r.text
+        assert r.json()["plan"]["update"] == [
+            {"type": "twin", "name": name,
+             "changes": [{"path": "name", "from": f"Old {name}", "to": f"New {name}"}]},
+        ]  # fmt: skip
+        twin = c.get(f"/api/v1/twins/{name}").json()
+        assert twin["name"] == f"New {name}"
+        assert [d["name"] for d in c.get(f"/api/v1/twins/{name}/devices").json()["devices"]] == [
+            "rig"
+        ]

@@ -87,3 +87,15 @@ def test_a_bad_parameter_is_named() -> None:
         checked_parameters(schema, {"nope": 1})
     with pytest.raises(InvalidInputError, match="takes no parameters"):
         checked_parameters(None, {"zeta": 1})
+
+
+def test_package_refs_as_deployments_name_them() -> None:
+    from twinlink.deploy.loading import package_ref
+
+    assert package_ref("rig@1.0.0", None) == "lib:twins/rig@1.0.0"
+    assert package_ref("rig", "common") == "lib:common/twins/rig"
+    assert package_ref("twins/rig", "group:ntnu") == "lib:group:ntnu/twins/rig"
+    assert package_ref("common/twins/rig@1.0.0", "me") == "lib:common/twins/rig@1.0.0"
+    assert package_ref("lib:common/twins/rig", None) == "lib:common/twins/rig"
+    with pytest.raises(InvalidInputError):
+        package_ref("", None)

@@ -70,6 +70,8 @@ def package_ref(package: str, scope: str | None) -> str:
     parts = package.split("/")
     if len(parts) == 1:
         return f"lib:{scope}/twins/{package}" if scope else f"lib:twins/{package}"
+    if len(parts) == 2 and scope:  # twins/NAME
+        return f"lib:{scope}/{package}"
     return f"lib:{package}"
 
 
