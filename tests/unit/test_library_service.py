@@ -188,8 +188,18 @@ async def test_asset_yaml_describes_the_asset_and_meta_wins(
 
 
 async def test_an_fmu_needs_an_uploader_and_a_good_one(library: LibraryService) -> None:
+    pulled: list[bytes] = []
+
+    async def counted() -> AsyncIterator[bytes]:
+        for chunk in (b"z", b"ip"):
+            pulled.append(chunk)
+            yield chunk
+
     with pytest.raises(ForbiddenError, match="only admins push FMUs"):
-        await library.push(ALICE, "me", "models", "x", _body(b"zip"), "file", filename="x.fmu")
+        await library.push(ALICE, "me", "models", "x", counted(), "file", filename="x.fmu")
+    assert pulled == []  # refused before the upload is read
+    with pytest.raises(ForbiddenError, match="only admins push FMUs"):  # inside an archive
+        await library.push(ALICE, "me", "models", "x", _body(_tar({"a/x.FMU": b"z"})), "tar")
 
     def refuse(path: Path) -> dict[str, Any]:
         raise InvalidInputError("not a usable FMU: no modelDescription.xml")

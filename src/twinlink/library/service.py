@@ -15,7 +15,7 @@ import time
 from collections.abc import AsyncIterator, Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from twinlink.auth.rights import Principal
 from twinlink.domain.errors import ConflictError, InvalidInputError, NotFoundError
@@ -45,7 +45,6 @@ from twinlink.library.rights import LibraryRights
 from twinlink.store.library import LibraryStore
 
 _FIELD_KEYS = ("description", "keywords", "licence", "author")
-UPLOAD_FORMATS = ("tar", "tgz", "zip", "file")
 
 
 @dataclass(frozen=True, slots=True)
@@ -168,6 +167,8 @@ class LibraryService(LibraryChanges):
         what = f"{scope}/{check_kind(kind)}/{check_name(name)}"
         tags = [check_tag(t) for t in dict.fromkeys(tags)]
         self.rights.check_write(principal, scope, what)
+        if fmt == "file" and filename:  # refused before the upload, not after it
+            self.rights.check_fmu_upload(principal, fmu_paths([FileEntry(filename, "", 0)]))
         meta = dict(meta or {})
         fields = fields_of({k: meta.pop(k) for k in _FIELD_KEYS if k in meta}, "meta")
         files = await archive.receive(body, _format(fmt), self.blobs, self.limits, filename)
@@ -205,10 +206,10 @@ class LibraryService(LibraryChanges):
         return check_scope(scope, _username(principal))
 
 
-def _format(fmt: str) -> Any:
-    if fmt not in UPLOAD_FORMATS:
+def _format(fmt: str) -> archive.Format:
+    if fmt not in archive.FORMATS:
         raise InvalidInputError(f"{fmt!r} is not an upload format: use one of tar, tgz, zip, file")
-    return fmt
+    return cast("archive.Format", fmt)
 
 
 def _username(principal: Principal) -> str | None:
