@@ -2,8 +2,9 @@
 playwright-core, ui/e2e/deployments.mjs) against a real server: a twin package in the library,
 deployed through the form generated from its parameter schema (a value over its maximum
 refused before sending), the plan shown, then deployed and running; a lifecycle phase run to
-its end, another followed live then cancelled, both logs whole after a reload; stopped; and its
-package's version refused deletion (held). Screenshots go to ui/e2e/screenshots/."""
+its end, another followed live then cancelled, both logs whole after a reload; reconfigured
+(new parameters, the diff plan, applied); stopped; and its package's version refused deletion
+(held). Screenshots go to ui/e2e/screenshots/."""
 
 from __future__ import annotations
 
@@ -95,7 +96,7 @@ def test_deploy_a_package_through_the_form_then_stop_it(server: Server) -> None:
         [node, "e2e/deployments.mjs"], cwd=UI, env=env, capture_output=True, text=True, timeout=300
     )
     assert run.returncode == 0, f"{run.stdout}\n{run.stderr}\n{server.log()[-3000:]}"
-    assert run.stdout.count("ok ") == (9 if runs else 6), run.stdout
+    assert run.stdout.count("ok ") == (10 if runs else 7), run.stdout
     # What the browser did, as the API sees it.
     with server.admin as admin:
         r = admin.get("/api/v1/deployments/tank-a")
@@ -103,11 +104,11 @@ def test_deploy_a_package_through_the_form_then_stop_it(server: Server) -> None:
         deployment = r.json()
         assert deployment["state"] == "stopped"
         assert deployment["parameters"] == {
-            "capacity": 4, "sensors": 1, "medium": "oil", "heated": True,
+            "capacity": 5, "sensors": 1, "medium": "oil", "heated": True,
         }  # fmt: skip
         assert deployment["resources"]["devices"] == ["level"]
         doc = admin.get("/api/v1/twins/tank-a").json()["document"]
-        assert doc["description"] == "oil tank of 4 m³"
+        assert doc["description"] == "oil tank of 5 m³"
         if runs:
             r = admin.get("/api/v1/deployments/tank-a/runs")
             assert [(x["phase"], x["state"]) for x in r.json()["runs"]] == [

@@ -119,14 +119,31 @@ try {
       await log.getByText('evolving tank-a', { exact: false }).waitFor();
     });
   }
-  await step('8-stop', async () => {
+  await step('8-reconfigure', async () => {
+    // New parameters: the diff plan (the twin's description changes, the device is kept),
+    // then applied; the deployment keeps running.
+    await page.getByRole('button', { name: 'Reconfigure' }).click();
+    const form = page.getByRole('form', { name: 'Reconfigure' });
+    const capacity = form.getByLabel('Capacity');
+    if ((await capacity.inputValue()) !== '4') throw new Error(`capacity shown as ${await capacity.inputValue()}`);
+    await capacity.fill('5');
+    await form.getByRole('button', { name: 'Plan changes' }).click();
+    const plan = form.getByRole('region', { name: 'Plan' });
+    await plan.getByText('oil tank of 5 m³', { exact: false }).waitFor();
+    await plan.getByRole('list', { name: 'Keep' }).getByText('level', { exact: true }).waitFor();
+    await form.getByRole('button', { name: 'Apply' }).click();
+    await form.waitFor({ state: 'detached' });
+    await page.getByText('{"capacity":5,"sensors":1,"medium":"oil","heated":true}').waitFor();
+    await state().getByText('running').waitFor();
+  });
+  await step('9-stop', async () => {
     await page.getByRole('button', { name: 'Stop', exact: true }).click();
     await state().getByText('stopped').waitFor();
     await page.getByRole('button', { name: 'Start', exact: true }).waitFor();
     await page.goto(`${url}/app/deployments`);
     await page.getByRole('table', { name: 'Deployments' }).getByRole('row', { name: /tank-a/ }).getByText('stopped').waitFor();
   });
-  await step('9-held', async () => {
+  await step('10-held', async () => {
     // The package's version is held by the deployment: deleting it is refused, and says why.
     await page.goto(`${url}/app/library?asset=common/twins/ui-tank`);
     page.once('dialog', (d) => void d.accept());

@@ -105,6 +105,18 @@ export function createDeployment(request: DeploymentRequest & { start?: boolean 
   return apiFetch<CreateAnswer>(BASE, { method: "POST", json: request });
 }
 
+export interface ChangeRequest {
+  /** Those to change; the others are kept. */
+  parameters?: Record<string, unknown>;
+  /** Another version of the package: "<scope>/twins/<name>@<tag or digest>". */
+  package?: string;
+}
+
+/** Reconfigure: the diff plan, applied unless `dryRun`. */
+export function changeDeployment(name: string, change: ChangeRequest, dryRun: boolean): Promise<CreateAnswer> {
+  return apiFetch<CreateAnswer>(`${BASE}/${enc(name)}`, { method: "PATCH", query: { dry_run: dryRun || undefined }, json: change });
+}
+
 export type Transition = "create" | "start" | "stop" | "terminate";
 
 /** A lifecycle step; the answer is the deployment as it is after it (whatever its shape, the

@@ -1,7 +1,7 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
 import { act, render, screen, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { MemoryRouter, Route, Routes } from "react-router-dom";
+import { MemoryRouter, Route, Routes, useLocation } from "react-router-dom";
 import { setToken } from "../api/client";
 import { jsonResponse, mockFetch, problem } from "../test/fetch";
 import { DeploymentPage, transitionsOf } from "./DeploymentPage";
@@ -51,7 +51,12 @@ const run = (id: number, phase: string, state: string, exit_code: number | null)
   id, deployment: "rig-a", phase, state, exit_code, started_by: "admin", created_ns: 1.7e18, started_ns: 1.7e18, ended_ns: state === "running" ? null : 1.7e18, node: "n1", error: null,
 });
 
-function setup() {
+/** The history entry's state, shown for the test to read. */
+function HistoryState() {
+  return <div data-testid="history-state">{JSON.stringify(useLocation().state)}</div>;
+}
+
+function setup(historyState: unknown = null) {
   setToken("tl_x");
   FakeSocket.all = [];
   vi.stubGlobal("WebSocket", FakeSocket);
@@ -69,9 +74,17 @@ function setup() {
     return problem(404, `unexpected ${url}`);
   });
   render(
-    <MemoryRouter initialEntries={["/deployments/rig-a"]} future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
+    <MemoryRouter initialEntries={[{ pathname: "/deployments/rig-a", state: historyState }]} future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
       <Routes>
-        <Route path="/deployments/:name" element={<DeploymentPage />} />
+        <Route
+          path="/deployments/:name"
+          element={
+            <>
+              <DeploymentPage />
+              <HistoryState />
+            </>
+          }
+        />
       </Routes>
     </MemoryRouter>,
   );
@@ -122,6 +135,14 @@ describe("DeploymentPage", () => {
     expect(await screen.findByRole("alert")).toHaveTextContent("(403): only admins may start runs");
     const sent = fetch.mock.calls.find(([u, i]) => String(u) === "/api/v1/deployments/rig-a/runs" && i?.method === "POST");
     expect(JSON.parse(String(sent![1]!.body))).toEqual({ phase: "evolve" });
+  });
+
+  it("shows the device tokens handed over by the deploy, once: not in the history entry after", async () => {
+    setup({ deviceTokens: { level: "tld_secret" } });
+    expect(await screen.findByRole("status")).toHaveTextContent("level: tld_secret");
+    // Shown still after the page took the tokens out of its history entry.
+    await vi.waitFor(() => expect(screen.getByTestId("history-state")).toHaveTextContent("null"));
+    expect(screen.getByRole("status")).toHaveTextContent("level: tld_secret");
   });
 
   it("offers the transitions each state allows", () => {

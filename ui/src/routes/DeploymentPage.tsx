@@ -1,6 +1,6 @@
 // One deployment: its state and resources, the lifecycle buttons, every run and a run's log.
 import { useEffect, useState } from "react";
-import { Link, useLocation, useParams } from "react-router-dom";
+import { Link, useLocation, useNavigate, useParams } from "react-router-dom";
 import {
   cancelRun,
   getDeployment,
@@ -13,6 +13,7 @@ import {
   type Transition,
 } from "../api/deployments";
 import { Empty, ErrorMessage, Loading } from "../components/common/Status";
+import { Reconfigure } from "../components/deployments/Reconfigure";
 import { RunHistory } from "../components/deployments/RunHistory";
 import { RunLog } from "../components/deployments/RunLog";
 import { useApi } from "../hooks/useApi";
@@ -157,11 +158,18 @@ function Resources({ deployment }: { deployment: Deployment }) {
 export function DeploymentPage() {
   const { name = "" } = useParams();
   const location = useLocation();
-  const tokens = (location.state as CreatedState | null)?.deviceTokens ?? {};
+  const navigate = useNavigate();
+  // The device tokens come once, from the page that deployed: kept here, and taken out of the
+  // history entry at once so that a reload or going back does not show them again.
+  const [tokens] = useState(() => (location.state as CreatedState | null)?.deviceTokens ?? {});
+  useEffect(() => {
+    if (location.state) navigate(location.pathname, { replace: true, state: null });
+  }, [location.state, location.pathname, navigate]);
   const deployment = useApi((signal) => getDeployment(name, signal), [name]);
   const runs = useApi((signal) => listRuns(name, signal), [name]);
   const [selected, setSelected] = useState<number | null>(null);
   const [cancelError, setCancelError] = useState<Error | null>(null);
+  const [reconfiguring, setReconfiguring] = useState(false);
   const { reload: reloadDeployment } = deployment;
   const { reload: reloadRuns } = runs;
   useEffect(() => {
@@ -193,6 +201,22 @@ export function DeploymentPage() {
       {deployment.error && <ErrorMessage error={deployment.error} />}
       <LifecycleActions deployment={d} onDone={reloadAll} />
       <Resources deployment={d} />
+      {transitionsOf(d.state).length > 0 && !reconfiguring && (
+        <button type="button" onClick={() => setReconfiguring(true)}>
+          Reconfigure
+        </button>
+      )}
+      {reconfiguring && (
+        <Reconfigure
+          key={d.package}
+          deployment={d}
+          onDone={() => {
+            setReconfiguring(false);
+            reloadAll();
+          }}
+          onCancel={() => setReconfiguring(false)}
+        />
+      )}
       <h2>Runs</h2>
       {runs.error && <ErrorMessage error={runs.error} onRetry={runs.reload} />}
       {cancelError && <ErrorMessage error={cancelError} />}

@@ -22,6 +22,12 @@ export function packageRef(choice: PackageChoice): string {
   return `${choice.asset}@${choice.version || "latest"}`;
 }
 
+/** "lib:<scope>/<kind>/<name>@<ref>[#path]" (a deployment's pinned package) in its parts. */
+export function parsePinned(ref: string): { scope: string; kind: string; name: string; version: string } | null {
+  const match = /^lib:([^/]+)\/([^/]+)\/([^@#/]+)@([^#]+)/.exec(ref);
+  return match ? { scope: match[1]!, kind: match[2]!, name: match[3]!, version: match[4]! } : null;
+}
+
 /** The chosen version's twin.yaml, read: what the form is generated from. */
 export function usePackageInfo(choice: PackageChoice) {
   return useApi(async (signal): Promise<PackageInfo | null> => {
@@ -32,12 +38,15 @@ export function usePackageInfo(choice: PackageChoice) {
   }, [choice.asset, choice.version]);
 }
 
-function VersionPicker({ asset, value, onChange }: { asset: Asset; value: string; onChange: (v: string) => void }) {
+type AssetRef = Pick<Asset, "scope" | "kind" | "name" | "ref" | "tags">;
+
+/** A tag or a version of `asset`, by its digest. */
+export function VersionPicker({ asset, value, onChange, id = "dep-version" }: { asset: AssetRef; value: string; onChange: (v: string) => void; id?: string }) {
   const details = useApi((signal) => getAsset(asset.scope, asset.kind, asset.name, signal), [asset.ref]);
-  const tags = Object.entries(asset.tags).sort(([a], [b]) => (a === "latest" ? -1 : b === "latest" ? 1 : a.localeCompare(b)));
+  const tags = Object.entries(details.data?.tags ?? asset.tags).sort(([a], [b]) => (a === "latest" ? -1 : b === "latest" ? 1 : a.localeCompare(b)));
   return (
-    <PlainField id="dep-version" label="Version" path="version" required hint="A tag, or one version by its digest." error={details.error?.message}>
-      <select id="dep-version" value={value} required onChange={(e) => onChange(e.target.value)}>
+    <PlainField id={id} label="Version" path="version" required hint="A tag, or one version by its digest." error={details.error?.message}>
+      <select id={id} value={value} required onChange={(e) => onChange(e.target.value)}>
         {!tags.length && !details.data && <option value="">Loading…</option>}
         <optgroup label="Tags">
           {tags.map(([tag, digest]) => (
