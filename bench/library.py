@@ -174,6 +174,19 @@ def curl(args: list[str]) -> tuple[int, float, str]:
     return int(code), float(seconds), body
 
 
+def quiet(pid: int, timeout_s: float = 60) -> None:
+    """Wait until the server is idle (under 5 % of a core over 0.5 s): after its start it
+    loads the processors' blueprints in the background (scipy), which the first push would
+    pay for."""
+    proc = psutil.Process(pid)
+    deadline = time.perf_counter() + timeout_s
+    while time.perf_counter() < deadline:
+        before = sum(proc.cpu_times()[:2])
+        time.sleep(0.5)
+        if sum(proc.cpu_times()[:2]) - before < 0.025:
+            return
+
+
 def timed(command: list[str]) -> float:
     start = time.perf_counter()
     subprocess.run(command, check=True, shell=False)
@@ -286,15 +299,19 @@ def render(report: dict[str, Any]) -> str:
     lines = [
         f"library benchmark, {report['config']['size_mb']} MB in {report['config']['files']} "
         f"files, {report['config']['reps']} repetitions; {m['nproc']} CPUs ({m['cpu_model']}), "
-        f"git {m['git']}",
+        f"git {m['git']}; load average {report['loadavg']['before']} before, "
+        f"{report['loadavg'].get('after', '-')} after (1 min)",
         "",
-        f"{'case':<36}{'MB/s median':>12}{'best':>8}{'srv CPU s':>11}{'RSS growth MB':>15}",
+        f"{'case':<36}{'MB/s median':>12}{'best':>8}{'srv CPU s':>11}{'MB/CPU s':>10}"
+        f"{'RSS growth MB':>15}",
     ]
+    size = report["config"]["size_mb"]
     for c in report["cases"]:
         cpu = statistics.median(c["server_cpu_s"]) if c["server_cpu_s"] else None
         lines.append(
             f"{c['name']:<36}{_f(c['mb_s_median']):>12}{_f(c['mb_s_best']):>8}"
-            f"{_f(cpu, 2):>11}{_f(c['rss_growth_mb_max']):>15}"
+            f"{_f(cpu, 2):>11}{_f(size / cpu if cpu else None, 0):>10}"
+            f"{_f(c['rss_growth_mb_max']):>15}"
             + (f"   ERRORS: {c['errors']}" if c["errors"] else "")
         )
     for label, ratio in report.get("ratios", {}).items():
@@ -332,6 +349,7 @@ def main(argv: list[str] | None = None) -> int:
         "machine": machine_info(),
         "config": {"size_mb": a.size_mb, "files": a.files, "reps": a.reps, "direct": a.direct},
         "goal_mb_s": GOAL_MB_S,
+        "loadavg": {"before": round(os.getloadavg()[0], 2)},
     }
     server = Twinlink(tmp / "data")
     status = 0
@@ -349,9 +367,11 @@ def main(argv: list[str] | None = None) -> int:
             except RuntimeError as err:
                 print(f"error: {err}", file=sys.stderr)
                 return 2
+            quiet(server.pid)
             report["rss_mb_idle"] = round(server.settled_rss() / MB, 1)
             cases += http_cases(server, tmp, size, a.reps, digests)
             report["rss_mb_after"] = round(server.settled_rss() / MB, 1)
+        report["loadavg"]["after"] = round(os.getloadavg()[0], 2)
         report["cases"] = [c.summary() for c in cases]
         report["ratios"] = ratios(report["cases"])
         status = 1 if any(c.errors for c in cases) else 0
