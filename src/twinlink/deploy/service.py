@@ -167,7 +167,11 @@ class DeploymentService:
                     updated_ns=now,
                 )
             )
-            await self._hold(record, loaded)
+            try:
+                await self._hold(record, loaded)
+            except BaseException as err:
+                await self._fail(record, f"holding the package's library versions failed: {err}")
+                raise
             tokens: dict[str, str] = {}
             if not planned:
                 tokens = await self._apply_create(principal, record, loaded, start)
