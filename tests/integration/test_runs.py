@@ -142,7 +142,7 @@ def _alive(pid: int) -> bool:
 
 
 def test_a_run_over_its_memory_limit_fails(server: Server) -> None:
-    hog = "python3 -c 'b = bytearray(1 << 30); print(\"got it\")'\n"
+    hog = "python3 -c 'b = bytearray(300 << 20); print(\"got it\")'\n"
     lifecycle = "lifecycle:\n  terminate: {memory_mb: 200}\n  clean: {memory_mb: 2048}\n"
     name = deploy_package(server, {"terminate": hog, "clean": hog}, lifecycle=lifecycle)
     with server.admin as c:
