@@ -1,7 +1,8 @@
 """The web app's Library page in a real browser (Debian's chromium driven by playwright-core,
 ui/e2e/library.mjs) against a real server: upload a file and a zip archive, see them listed,
 filtered by kind and found by search, list an archive's files (the executable bit kept),
-download a version as a zip, delete a version. Screenshots go to ui/e2e/screenshots/."""
+download a version as a zip, delete a version, set and remove tags. Screenshots go to
+ui/e2e/screenshots/."""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ from tests.conftest import ROOT, Server
 pytestmark = pytest.mark.integration
 UI = ROOT / "ui"
 SHOTS = UI / "e2e" / "screenshots"
-STEPS = 6  # the steps library.mjs prints "ok <name>" for
+STEPS = 7  # the steps library.mjs prints "ok <name>" for
 
 
 def _zip(path: Path) -> Path:
@@ -51,15 +52,16 @@ def test_upload_an_asset_and_see_it_listed(server: Server, tmp_path: Path) -> No
     )
     assert run.returncode == 0, f"{run.stdout}\n{run.stderr}\n{server.log()[-3000:]}"
     assert run.stdout.count("ok ") == STEPS, run.stdout
-    # What the browser did, as the API sees it: both assets, the readings' second version only.
+    # What the browser did, as the API sees it: both assets, the readings' second version only,
+    # tagged stable and no longer 1.1.0.
     with server.admin as admin:
         r = admin.get("/api/v1/library", params={"scope": "common"})
         assert r.status_code == 200, r.text
         assets = {a["ref"]: a for a in r.json()["assets"]}
         assert set(assets) == {"common/data/tank-readings", "common/tools/tank-tool"}
-        assert set(assets["common/data/tank-readings"]["tags"]) == {"latest", "1.1.0"}
+        assert set(assets["common/data/tank-readings"]["tags"]) == {"latest", "stable"}
         assert assets["common/data/tank-readings"]["versions"] == 1
-        r = admin.get("/api/v1/library/common/data/tank-readings/versions/1.1.0")
+        r = admin.get("/api/v1/library/common/data/tank-readings/versions/stable")
         assert r.status_code == 200, r.text
         assert [(f["path"], f["size"]) for f in r.json()["files"]] == [("readings.csv", 23)]
         r = admin.get("/api/v1/library/common/tools/tank-tool/versions/latest")

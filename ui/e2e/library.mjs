@@ -112,6 +112,17 @@ try {
     await versions.getByText('1.0.0').waitFor({ state: 'detached' });
     await versions.getByText('1.1.0').waitFor();
   });
+  await step('7-tags', async () => {
+    // A tag set on the version left, another removed: the version stays.
+    const form = page.getByRole('form', { name: 'Set a tag' });
+    await form.getByLabel('Tag').fill('stable');
+    await form.getByRole('button', { name: 'Set tag' }).click();
+    const versions = page.getByRole('table', { name: 'Versions' });
+    await versions.getByText('stable').waitFor();
+    await versions.getByRole('button', { name: 'Remove tag 1.1.0' }).click();
+    await versions.getByText('1.1.0').waitFor({ state: 'detached' });
+    await versions.getByText('latest').waitFor();
+  });
   if (errors.length) throw new Error(`errors in the page: ${errors.join('; ')}`);
 } finally {
   await browser.close();

@@ -96,6 +96,16 @@ export function deleteAsset(scope: string, kind: string, name: string): Promise<
   return apiFetch<void>(assetPath(scope, kind, name), { method: "DELETE" });
 }
 
+/** Point `tag` at a version (it is moved when it is set). */
+export function setTag(scope: string, kind: string, name: string, tag: string, version: string): Promise<Asset> {
+  return apiFetch<Asset>(`${assetPath(scope, kind, name)}/tags/${enc(tag)}`, { method: "PUT", json: { version } });
+}
+
+/** Remove a tag; the version stays. */
+export function deleteTag(scope: string, kind: string, name: string, tag: string): Promise<void> {
+  return apiFetch<void>(`${assetPath(scope, kind, name)}/tags/${enc(tag)}`, { method: "DELETE" });
+}
+
 /** One file of a version, as text (twin.yaml, a README). */
 export async function readVersionFile(
   scope: string,

@@ -77,6 +77,26 @@ describe("LibraryPage", () => {
     expect(await screen.findByRole("alert")).toHaveTextContent("(409): version sha256:1111 of common/models/tingen-beam is held by deployment:rig-a");
   });
 
+  it("points a tag at a version, and removes one", async () => {
+    const calls: [string, string, unknown][] = [];
+    setup((url, init) => {
+      if (!url.includes("/tags/")) return null;
+      calls.push([init?.method ?? "GET", url, init?.body ? JSON.parse(String(init.body)) : null]);
+      return init?.method === "DELETE" ? new Response(null, { status: 204 }) : jsonResponse(asset("models", "tingen-beam"));
+    });
+    await userEvent.click(await screen.findByRole("button", { name: "common/models/tingen-beam" }));
+    const form = await screen.findByRole("form", { name: "Set a tag" });
+    await userEvent.type(within(form).getByLabelText("Tag"), "stable");
+    await userEvent.selectOptions(within(form).getByLabelText("on version"), d1);
+    await userEvent.click(within(form).getByRole("button", { name: "Set tag" }));
+    await userEvent.click(screen.getByRole("button", { name: "Remove tag 1.0.0" }));
+    await vi.waitFor(() => expect(calls).toHaveLength(2));
+    expect(calls).toEqual([
+      ["PUT", "/api/v1/library/common/models/tingen-beam/tags/stable", { version: d1 }],
+      ["DELETE", "/api/v1/library/common/models/tingen-beam/tags/1.0.0", null],
+    ]);
+  });
+
   it("uploads the chosen file as the request body, with its scope, kind, name and tags", async () => {
     const pushed: { url: string; body: unknown }[] = [];
     setup((url, init) => {

@@ -2,6 +2,7 @@
 // archive, and deleting a version (refused, with the reason, while a deployment holds it).
 import { useState } from "react";
 import {
+  deleteTag,
   deleteVersion,
   downloadArchive,
   formatBytes,
@@ -14,6 +15,7 @@ import {
 import { useApi } from "../../hooks/useApi";
 import { ErrorMessage, Loading } from "../common/Status";
 import { formatEpochMs } from "../common/time";
+import { TagForm } from "./TagForm";
 
 interface Props {
   scope: string;
@@ -47,12 +49,13 @@ function Files({ scope, kind, name, digest }: { scope: string; kind: string; nam
   );
 }
 
-function VersionRow({ v, open, onToggle, onDownload, onDelete }: {
+function VersionRow({ v, open, onToggle, onDownload, onDelete, onUntag }: {
   v: VersionSummary;
   open: boolean;
   onToggle: () => void;
   onDownload: (format: ArchiveFormat) => void;
   onDelete: () => void;
+  onUntag: (tag: string) => void;
 }) {
   const short = shortDigest(v.digest);
   return (
@@ -60,7 +63,20 @@ function VersionRow({ v, open, onToggle, onDownload, onDelete }: {
       <td className="mono" title={v.digest}>
         {short}
       </td>
-      <td>{v.tags.length ? v.tags.map((t) => <span key={t} className="chip">{t}</span>) : <span className="muted">none</span>}</td>
+      <td>
+        {v.tags.length ? (
+          v.tags.map((t) => (
+            <span key={t} className="chip">
+              {t}
+              <button type="button" className="link-button chip-remove" aria-label={`Remove tag ${t}`} title="Remove the tag (the version stays)" onClick={() => onUntag(t)}>
+                ×
+              </button>
+            </span>
+          ))
+        ) : (
+          <span className="muted">none</span>
+        )}
+      </td>
       <td className="num">{formatBytes(v.size)}</td>
       <td>{formatEpochMs(v.created_ns / 1e6)}</td>
       <td>{v.created_by}</td>
@@ -155,12 +171,31 @@ export function AssetDetails({ scope, kind, name, onChanged }: Props) {
                 onToggle={() => setOpen(open === v.digest ? null : v.digest)}
                 onDownload={(format) => void attempt(() => downloadArchive(scope, kind, name, v.digest, format))}
                 onDelete={() => remove(v)}
+                onUntag={(tag) =>
+                  void attempt(async () => {
+                    await deleteTag(scope, kind, name, tag);
+                    asset.reload();
+                    onChanged();
+                  })
+                }
               />
             ))}
           </tbody>
         </table>
       </div>
       {open && <Files scope={scope} kind={kind} name={name} digest={open} />}
+      {a.versions.length > 0 && (
+        <TagForm
+          scope={scope}
+          kind={kind}
+          name={name}
+          versions={a.versions}
+          onDone={() => {
+            asset.reload();
+            onChanged();
+          }}
+        />
+      )}
     </section>
   );
 }
