@@ -271,12 +271,9 @@ class RunService:
             task.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await task
-        elif run.state == "queued":  # not started anywhere: nothing to stop but the record
+        elif not run.ended:  # queued, or another node's: the record says so, and that node
+            # stops the run at its next round (_stop_cancelled), or never starts it
             await self.store.end_run(run.id, "cancelled", None, "cancelled", time.time_ns())
-        elif run.state == "running":
-            raise ForbiddenError(
-                f"run {run.id} runs on node {run.node}; it can be cancelled only there"
-            )
 
     # -- reading runs -----------------------------------------------------------------------
 
@@ -376,15 +373,23 @@ class RunService:
         runlog.append_line(runlog.log_path(self.settings.root, run_id), text)
 
     async def _claim_loop(self) -> None:
-        """Take the queued runs this node has the tags for and nobody has claimed."""
+        """Take the queued runs this node has the tags for and nobody has claimed; with a
+        shared store, stop this node's runs that another node cancelled."""
         while True:
             await asyncio.sleep(CLAIM_POLL_S)
-            if self.target_loader is None:
-                continue
             try:
-                await self._claim_round(self.target_loader)
+                if self.settings.shared:
+                    await self._stop_cancelled()
+                if self.target_loader is not None:
+                    await self._claim_round(self.target_loader)
             except Exception:
                 log.exception("claiming runs failed", extra={"event": "runs_claim_failed"})
+
+    async def _stop_cancelled(self) -> None:
+        for run_id, task in list(self._tasks.items()):
+            run = await self.store.get_run(run_id)
+            if run is not None and run.ended and not task.done():
+                task.cancel()  # its process group stopped; its record stays as it was ended
 
     async def _claim_round(self, loader: TargetLoader) -> None:
         queued = await self.store.list_runs(states=("queued",), limit=100)
