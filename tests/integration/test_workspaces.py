@@ -9,6 +9,8 @@ from collections.abc import Iterator
 
 import httpx
 import pytest
+from websockets.sync.client import ClientConnection, connect
+from websockets.typing import Subprotocol
 
 from tests.conftest import Server, start_server, stop_server
 from tests.integration._util import assert_problem, make_user, poll_until
@@ -132,6 +134,34 @@ def test_a_kernel_runs_code_over_the_proxied_websocket(
         run_code(ws_url, {**headers, "Origin": "http://evil.example"}, "print(1)")
 
 
+def test_a_terminal_and_the_kernel_protocol_pass_the_proxy(
+    server: Server, sessions: dict[str, str]
+) -> None:
+    headers = cookie(sessions["alice"])
+    base = server.url.replace("http://", "ws://") + "/workspaces/alice"
+    with server.client() as c:
+        name = c.post("/workspaces/alice/api/terminals", headers=headers).json()["name"]
+        kernel = c.post("/workspaces/alice/api/kernels", json={}, headers=headers).json()["id"]
+    with connect(f"{base}/terminals/websocket/{name}", additional_headers=headers) as ws:
+        ws.send(json.dumps(["stdin", "echo ws-$TWINLINK_URL-ok\r"]))
+        printed: list[str] = []
+        poll_until(lambda: f"ws-{server.url}-ok" in _stdout(ws, printed), "the echo", 30)
+    # JupyterLab's own client asks for the kernel protocol as a WebSocket subprotocol.
+    protocol = Subprotocol("v1.kernel.websocket.jupyter.org")
+    url = f"{base}/api/kernels/{kernel}/channels"
+    with connect(url, additional_headers=headers, subprotocols=[protocol]) as ws:
+        assert ws.subprotocol == protocol
+
+
+def _stdout(ws: ClientConnection, printed: list[str]) -> str:
+    """All the terminal printed so far, with its next message read (["stdout", text] or
+    another kind)."""
+    message = json.loads(ws.recv(timeout=30))
+    if message[0] == "stdout":
+        printed.append(str(message[1]))
+    return "".join(printed)
+
+
 def test_stop_ends_the_process_and_revokes_its_token(
     server: Server, users: dict[str, str], sessions: dict[str, str]
 ) -> None:
@@ -160,7 +190,7 @@ def test_admins_see_every_workspace(server: Server, sessions: dict[str, str]) ->
     assert all(w["url"] is None for w in listed)  # links are for their owners
 
 
-def test_the_servers_stop_stops_every_workspace(tmp_path: object, server: Server) -> None:
+def test_the_servers_stop_stops_every_workspace(server: Server) -> None:
     srv = start_server(server.data_dir.parent / "stop-data")
     token = make_user(srv, "carol")
     start(srv, token)
@@ -177,3 +207,17 @@ def _kernel(server: Server, session: str) -> str:
         server.url.replace("http://", "ws://")
         + f"/workspaces/bob/api/kernels/{r.json()['id']}/channels"
     )
+
+
+def test_workspaces_turned_off(server: Server) -> None:
+    srv = start_server(
+        server.data_dir.parent / "off-data", {"TWINLINK_WORKSPACES_ENABLED": "false"}
+    )
+    try:
+        token = make_user(srv, "dora")
+        with srv.client(token) as c:
+            body = assert_problem(c.post("/api/v1/workspaces/me"), 404)
+            assert "TWINLINK_WORKSPACES_ENABLED" in body["detail"]
+            assert c.get("/workspaces/dora/api/status").status_code == 404
+    finally:
+        stop_server(srv)

@@ -8,11 +8,12 @@ import stat
 import tarfile
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
 from tests.conftest import Server, start_server, stop_server
-from tests.integration._util import make_user, poll_until
+from tests.integration._util import assert_problem, make_user, poll_until
 from tests.integration._workspaces import COOKIE, lab_processes, open_link, start
 
 pytestmark = pytest.mark.integration
@@ -109,3 +110,24 @@ def _tar(files: dict[str, bytes]) -> bytes:
             info.size = len(data)
             tar.addfile(info, io.BytesIO(data))
     return out.getvalue()
+
+
+def test_a_workspace_that_cannot_start_says_why(tmp_path: Path) -> None:
+    # 40 MB of address space: Python itself starts, JupyterLab's imports do not.
+    srv = start_server(tmp_path / "data", {"TWINLINK_WORKSPACE_MEMORY_MB": "40"})
+    try:
+        token = make_user(srv, "tiny")
+        with srv.client(token) as c:
+            body = assert_problem(c.post("/api/v1/workspaces/me", timeout=120), 503)
+            assert "did not start" in body["detail"]
+            failed = c.get("/api/v1/workspaces/me").json()
+        assert failed["state"] == "failed" and "ended with code" in failed["error"]
+        # Its last lines end with what stopped it (an import that could not map its library).
+        assert "Error" in failed["log"][-1], failed["log"]
+        assert lab_processes(srv, "tiny") == []
+        with srv.admin as c:
+            tokens = c.get("/api/v1/tokens", params={"all": "true"}).json()["tokens"]
+        assert all(t["state"] == "revoked" for t in tokens if t["username"] == "tiny"
+                   and t["name"].startswith("workspace"))  # fmt: skip
+    finally:
+        stop_server(srv)

@@ -29,6 +29,7 @@ from twinlink.domain.errors import TwinlinkError
 LOG_LINES = 40
 STOP_GRACE_S = 10.0
 POLL_S = 0.2
+READER_GRACE_S = 2.0
 _PR_SET_PDEATHSIG = 1
 
 
@@ -61,6 +62,7 @@ class JupyterProcess:
         self.logs: deque[str] = deque(maxlen=LOG_LINES)
         self.proc: asyncio.subprocess.Process | None = None
         self._reader: asyncio.Task[None] | None = None
+        self._ended: asyncio.Task[int] | None = None
 
     @property
     def origin(self) -> str:
@@ -134,10 +136,21 @@ class JupyterProcess:
             self.logs.append(text)
 
     async def wait(self) -> int:
-        assert self.proc is not None
+        """Its exit code once it ended and its log is read (one waiter underneath, however
+        many wait)."""
+        if self._ended is None:
+            self._ended = asyncio.create_task(self._wait())
+        return await asyncio.shield(self._ended)
+
+    async def _wait(self) -> int:
+        assert self.proc is not None and self._reader is not None
         code = await self.proc.wait()
-        if self._reader is not None:
-            await self._reader
+        # A child it left (a kernel) may hold the log pipe open after it ended: the lines
+        # up to now are enough.
+        with contextlib.suppress(TimeoutError):
+            await asyncio.wait_for(asyncio.shield(self._reader), READER_GRACE_S)
+        self._reader.cancel()
+        await asyncio.gather(self._reader, return_exceptions=True)
         return code
 
     async def stop(self) -> None:
