@@ -110,10 +110,11 @@ def test_only_jupyters_own_token_scheme_is_not_a_bearer() -> None:
         (b"https://evil.example", False),
         (b"http://twin.example:9000", False),
         (b"null", False),
+        (b"https://twins.example.org", True),  # the public URL, behind a reverse proxy
     ],
 )
 def test_a_change_must_come_from_the_servers_own_pages(origin: bytes | None, same: bool) -> None:
     headers = [(b"host", b"twin.example:8000")]
     if origin is not None:
         headers.append((b"origin", origin))
-    assert _same_origin(scope(headers)) is same
+    assert _same_origin(scope(headers), "https://twins.example.org") is same

@@ -81,7 +81,7 @@ class WorkspaceProxy:
                 raise ForbiddenError(f"this needs the workspace's session: {_START}")
             if await self.workspaces.access.session(session, username) is None:
                 raise ForbiddenError(f"the workspace session is not valid here: {_START}")
-            if changes and not _same_origin(scope):
+            if changes and not _same_origin(scope, self.workspaces.settings.server_url):
                 raise ForbiddenError("a change to a workspace must come from this server's pages")
         ws = self.workspaces.running(username)
         if ws is None or ws.process is None:
@@ -112,7 +112,9 @@ class WorkspaceProxy:
         session, grant = redeemed
         scope_path = f"/workspaces/{username}/"
         cookie = f"{COOKIE}={session}; Path={scope_path}; HttpOnly; SameSite=Strict"
-        if scope.get("scheme") == "https":
+        # TLS here, or ended by a reverse proxy in front (TWINLINK_PUBLIC_URL is https)
+        tls = scope.get("scheme") == "https" or self.workspaces.settings.server_url[:6] == "https:"
+        if tls:
             cookie += "; Secure"
         if grant.expires_ns is not None:  # it ends with the login session it came from
             cookie += f"; Max-Age={max(0, (grant.expires_ns - time.time_ns()) // 10**9)}"
@@ -197,14 +199,18 @@ async def _redirect(send: Send, location: str, extra: list[tuple[str, str]]) -> 
     await send({"type": "http.response.body", "body": b""})
 
 
-def _same_origin(scope: Scope) -> bool:
+def _same_origin(scope: Scope, server_url: str) -> bool:
     """Whether a browser's request comes from a page of this server: its Origin (sent with
-    every cross-origin request and WebSocket) names the host it was sent to. A client that
-    sends no Origin is no browser page."""
+    every cross-origin request, with same-origin ones that change something, and with every
+    WebSocket) names the host it was sent to, or the server's public URL (a reverse proxy in
+    front may send another Host). A client that sends no Origin is no browser page."""
     origin = _asgi.header(scope, b"origin")
     if origin is None:
         return True
-    host = _asgi.header(scope, b"host")
     with contextlib.suppress(ValueError):
-        return host is not None and urlsplit(origin).netloc == host
+        netloc = urlsplit(origin).netloc
+        return bool(netloc) and netloc in (
+            _asgi.header(scope, b"host"),
+            urlsplit(server_url).netloc,
+        )
     return False
