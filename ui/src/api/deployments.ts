@@ -1,45 +1,24 @@
-// Deployments of twin packages and their lifecycle runs (issue 16). Typed here by hand from
-// the shared design until openapi.ts is regenerated with these routes.
+// Deployments of twin packages and their lifecycle runs (issue 16).
 import { apiFetch, apiRequest, getToken } from "./client";
+import type { Schemas } from "./types";
 
 export type DeploymentState = "planned" | "applying" | "created" | "running" | "stopped" | "terminated" | "failed";
 export type ResourceType = "twin" | "device" | "processor" | "connector" | "service";
+export type RunState = "queued" | "running" | "succeeded" | "failed" | "cancelled";
 
-export interface Deployment {
-  id: number;
-  name: string;
-  /** The pinned ref of the package: lib:<scope>/twins/<name>@sha256:... */
-  package: string;
-  /** The package as it was asked for ("tingen-rig@1.0.0"). */
-  package_ref: string;
-  parameters: Record<string, unknown>;
-  state: DeploymentState;
-  twin: string;
-  resources: {
-    twin?: string | null;
-    devices?: string[];
-    processors?: string[];
-    connectors?: string[];
-    services?: string[];
-  };
-  created_by: string | null;
-  created_ns: number;
-  updated_ns: number;
-  error: string | null;
-}
+/** A deployment, its state as the app reads it (the API leaves it a string). */
+export type Deployment = Omit<Schemas["Deployment"], "state"> & { state: DeploymentState };
 
+/** One changed value of an update in a plan. */
 export interface PlanChange {
   path: string;
   from: unknown;
   to: unknown;
 }
 
-export interface PlanItem {
-  type: ResourceType;
-  name: string;
-  spec?: unknown;
-  changes?: PlanChange[];
-}
+/** A resource in a plan; an update's `changes` typed as the plan writes them (the API leaves
+ * them open). */
+export type PlanItem = Omit<Schemas["PlanEntry"], "changes"> & { changes?: PlanChange[] | null };
 
 export interface Plan {
   create: PlanItem[];
@@ -48,36 +27,19 @@ export interface Plan {
   keep: PlanItem[];
 }
 
-export type RunState = "queued" | "running" | "succeeded" | "failed" | "cancelled";
+/** A lifecycle run, its state as the app reads it. */
+export type Run = Omit<Schemas["Run"], "state"> & { state: RunState };
 
-export interface Run {
-  id: number;
-  deployment: string;
-  twin?: string;
-  phase: string;
-  state: RunState;
-  exit_code: number | null;
-  started_by: string | null;
-  created_ns: number;
-  started_ns: number | null;
-  ended_ns: number | null;
-  node: string | null;
-  error: string | null;
-  timeout_s?: number;
-  memory_mb?: number;
-}
-
-export interface DeploymentRequest {
-  package: string;
-  name: string;
+export type DeploymentRequest = Pick<Schemas["CreateBody"], "package" | "name" | "scope"> & {
   parameters: Record<string, unknown>;
-  scope?: string;
-}
+};
 
+/** The answer of a deploy or a reconfigure; device tokens (name -> token) shown once. (Its
+ * schema is named twinlink__api__deployments__Applied in openapi.ts, beside the twins' own
+ * Applied: not a name to depend on.) */
 export interface CreateAnswer {
   deployment: Deployment;
   plan: Plan;
-  /** device name -> token, shown once. */
   device_tokens: Record<string, string>;
 }
 
@@ -105,12 +67,9 @@ export function createDeployment(request: DeploymentRequest & { start?: boolean 
   return apiFetch<CreateAnswer>(BASE, { method: "POST", json: request });
 }
 
-export interface ChangeRequest {
-  /** Those to change; the others are kept. */
-  parameters?: Record<string, unknown>;
-  /** Another version of the package: "<scope>/twins/<name>@<tag or digest>". */
-  package?: string;
-}
+/** Reconfigure: `parameters` to change (the others are kept), `package` another version of
+ * the package ("<scope>/twins/<name>@<tag or digest>"). */
+export type ChangeRequest = Schemas["ChangeBody"];
 
 /** Reconfigure: the diff plan, applied unless `dryRun`. */
 export function changeDeployment(name: string, change: ChangeRequest, dryRun: boolean): Promise<CreateAnswer> {

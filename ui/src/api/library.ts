@@ -1,61 +1,22 @@
 // The asset library's API (issue 16): assets by scope and kind, their immutable versions and
-// tags, streamed upload and download. Typed here by hand from the shared design until
-// openapi.ts is regenerated with these routes.
+// tags, streamed upload and download.
 import { apiFetch, apiRequest } from "./client";
+import type { Schemas } from "./types";
 
 export const KINDS = ["data", "models", "tools", "functions", "twins"] as const;
 export type Kind = (typeof KINDS)[number];
 export type ArchiveFormat = "tar" | "tgz" | "zip";
 export type UploadFormat = ArchiveFormat | "file";
 
-export interface Asset {
-  scope: string;
-  kind: Kind;
-  name: string;
-  /** "<scope>/<kind>/<name>" */
-  ref: string;
-  description: string | null;
-  keywords: string[];
-  licence: string | null;
-  author: string | null;
-  /** tag -> version digest */
-  tags: Record<string, string>;
-  latest: string | null;
-  /** How many versions the asset has. */
-  versions: number;
-  updated_ns: number;
-}
-
-export interface LibraryFile {
-  path: string;
-  sha256: string;
-  size: number;
-  executable: boolean;
-}
-
-export interface VersionSummary {
-  digest: string;
-  size: number;
-  file_count?: number;
-  tags: string[];
-  meta: Record<string, unknown>;
-  created_ns: number;
-  created_by: string | null;
-}
-
-export interface Version extends VersionSummary {
-  files: LibraryFile[];
-}
-
-export interface AssetDetails extends Omit<Asset, "versions"> {
-  versions: VersionSummary[];
-}
-
-export interface PushAnswer {
-  asset: Asset;
-  version: Version;
-  created: boolean;
-}
+/** An asset as the list shows it: `versions` is how many it has, `tags` tag -> digest. */
+export type Asset = Schemas["AssetView"];
+export type LibraryFile = Schemas["FileView"];
+export type VersionSummary = Schemas["VersionSummary"];
+/** A version with its files. */
+export type Version = Schemas["VersionView"];
+/** An asset with its versions, newest first. */
+export type AssetDetails = Schemas["AssetDetail"];
+export type PushAnswer = Schemas["PushAnswer"];
 
 const enc = encodeURIComponent;
 const BASE = "/api/v1/library";

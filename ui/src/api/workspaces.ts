@@ -1,18 +1,10 @@
 // The caller's JupyterLab workspace (issue 16).
 import { apiFetch } from "./client";
+import type { Schemas } from "./types";
 
-export interface Workspace {
-  user: string;
-  /** starting, running, stopping, stopped or failed */
-  state: string;
-  /** /workspaces/<user>/?ticket=...: a one-time ticket the proxy swaps for a cookie; only
-   * while it runs. */
-  url: string | null;
-  /** Why it failed. */
-  error?: string | null;
-  /** The last lines of its log, when it failed. */
-  log?: string[];
-}
+/** A workspace: `url` (/workspaces/<user>/?ticket=..., a one-time ticket the proxy swaps for a
+ * cookie) only while it runs; `error` and `log` say why it failed. */
+export type Workspace = Schemas["WorkspaceView"];
 
 /** Start the caller's workspace (a no-op when it runs) and answer where it is. */
 export function startWorkspace(): Promise<Workspace> {

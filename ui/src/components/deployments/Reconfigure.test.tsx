@@ -19,7 +19,7 @@ const yaml = (max: number) => `parameters:
 `;
 const deployment: Deployment = {
   id: 1, name: "tank-a", package: `lib:common/twins/ui-tank@${d1}`, package_ref: "ui-tank@1.0.0", parameters: { capacity: 4, medium: "oil" },
-  state: "running", twin: "tank-a", resources: { twin: "tank-a", devices: ["level"] }, created_by: "admin", created_ns: 0, updated_ns: 0, error: null,
+  state: "running", twin: "tank-a", resources: { twin: "tank-a", devices: ["level"], processors: [], connectors: [], services: [] }, created_by: "admin", created_ns: 0, updated_ns: 0, error: null,
 };
 const plan = { create: [], update: [{ type: "twin", name: "tank-a", changes: [{ path: "description", from: "oil tank of 4 m³", to: "oil tank of 5 m³" }] }], delete: [], keep: [{ type: "device", name: "level" }] };
 const version = (digest: string, tags: string[]) => ({ digest, size: 1, file_count: 1, tags, meta: {}, created_ns: 0, created_by: "admin" });

@@ -66,7 +66,7 @@ export function Reconfigure({ deployment, onDone, onCancel }: Props) {
       {errors.error && !errors.general && <div className="error">Nothing was changed: see the fields marked below.</div>}
       <fieldset disabled={busy} className="proc-bare">
         <div className="proc-basics">
-          <VersionPicker id="reconf-version" asset={{ scope: pinned.scope, kind: pinned.kind as "twins", name: pinned.name, ref: asset, tags: {} }} value={version} onChange={setVersion} />
+          <VersionPicker id="reconf-version" asset={{ scope: pinned.scope, kind: pinned.kind, name: pinned.name, ref: asset, tags: {} }} value={version} onChange={setVersion} />
         </div>
         {info.error && <ErrorMessage error={info.error} onRetry={info.reload} />}
         {!info.data && !info.error && <Loading what="Reading the package's twin.yaml" />}

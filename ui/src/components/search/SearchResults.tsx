@@ -6,13 +6,7 @@ import { Snippet } from "./Snippet";
 
 // A hit is a twin, or a library asset (kind "asset": no slug, its ref instead), which the
 // server lists after the twins.
-type Hit = SearchAnswer["hits"][number] & {
-  kind?: string;
-  ref?: string | null;
-  scope?: string | null;
-  asset_kind?: string | null;
-  description?: string | null;
-};
+type Hit = SearchAnswer["hits"][number];
 
 function AssetHit({ hit }: { hit: Hit }) {
   return (
