@@ -5,7 +5,9 @@ nothing left behind."""
 
 from __future__ import annotations
 
+import contextlib
 import io
+import sqlite3
 import tarfile
 from collections.abc import Iterator
 from typing import Any
@@ -298,3 +300,47 @@ def test_a_changed_document_updates_the_twin_in_place(server: Server, user: str)
         assert [d["name"] for d in c.get(f"/api/v1/twins/{name}/devices").json()["devices"]] == [
             "rig"
         ]
+
+
+SECRET_YAML = """\
+parameters:
+  type: object
+  properties:
+    password: {type: string, writeOnly: true}
+    user: {type: string, default: admin}
+  required: [password]
+document: {version: "1.0", name: "${deployment.name}"}
+services:
+  - name: api
+    base_url: http://127.0.0.1:9/
+    auth: {method: basic, username: "${params.user}", password: "${params.password}"}
+  - name: notes
+    base_url: "http://127.0.0.1:9/pw-${params.password}/"
+"""
+
+
+def test_secret_parameters_are_sealed_and_never_shown(server: Server, user: str) -> None:
+    name = unique("secret")
+    with server.client(user) as c:
+        push(c, "secret", {"twin.yaml": SECRET_YAML})
+        body = {"package": "secret", "name": name, "parameters": {"password": "hunter2"}}
+        r = c.post("/api/v1/deployments", params={"dry_run": "true"}, json=body)
+        assert r.status_code == 200 and "hunter2" not in r.text, r.text
+        r = c.post("/api/v1/deployments", json=body)
+        assert r.status_code == 201 and "hunter2" not in r.text, r.text
+        assert r.json()["deployment"]["parameters"] == {"password": "***", "user": "admin"}
+        assert "hunter2" not in c.get(f"/api/v1/deployments/{name}").text
+        # sent back as shown, a secret is kept; changed, the services that use it change
+        r = c.patch(f"/api/v1/deployments/{name}", json={"parameters": {"password": "***"}})
+        assert r.status_code == 200 and r.json()["plan"]["update"] == [], r.text
+        r = c.patch(f"/api/v1/deployments/{name}", json={"parameters": {"password": "swordfish"}})
+        assert r.status_code == 200, r.text
+        assert {e["name"] for e in r.json()["plan"]["update"]} == {"api", "notes"}
+        assert "swordfish" not in r.text and "hunter2" not in r.text
+        notes = c.get(f"/api/v1/twins/{name}/services/notes").json()
+        assert "pw-swordfish" in str(notes)  # the service itself has the value it was given
+    file = server.data_dir / "twinlink.sqlite3"
+    if file.exists():  # the store is SQLite (not PostgreSQL): the record holds neither
+        with contextlib.closing(sqlite3.connect(file)) as db:
+            rows = db.execute("SELECT * FROM deployments WHERE name = ?", (name,)).fetchall()
+        assert rows and "swordfish" not in repr(rows) and "hunter2" not in repr(rows)

@@ -57,3 +57,20 @@ def test_secrets_are_masked_and_their_change_still_seen() -> None:
                                                                "password": "other"}})  # fmt: skip
     plan = plan_change([entry(svc)], [changed], {changed.key: fingerprint(changed.spec)})
     assert plan.view()["update"][0]["changes"] == [{"path": "(secret)", "from": MASK, "to": MASK}]
+
+
+def test_secret_parameter_values_are_hidden_wherever_written_in() -> None:
+    from twinlink.deploy.secrets import hidden_values, secret_names, split
+
+    schema = {"properties": {"pw": {"type": "string", "writeOnly": True},
+                             "pin": {"type": "integer", "format": "password"},
+                             "user": {"type": "string"}}}  # fmt: skip
+    names = secret_names(schema)
+    assert names == {"pw", "pin"}
+    params = {"pw": "hunter2", "pin": 1234, "user": "u"}
+    assert split(params, names) == ({"pw": MASK, "pin": MASK, "user": "u"},
+                                     {"pw": "hunter2", "pin": 1234})  # fmt: skip
+    hidden = hidden_values(params, names)
+    svc = Resource("processor", "p", {"url": "http://x/hunter2/y", "n": 1234, "u": "u"})
+    assert shown(svc, hidden) == {"url": f"http://x/{MASK}/y", "n": MASK, "u": "u"}
+    assert "hunter2" not in str(plan_create([svc], hidden).view())

@@ -43,13 +43,13 @@ class Parts:
     connectors: ConnectorService
     fingerprint: Callable[[bytes], str]  # the vault's keyed digest
 
-    def entry(self, resource: Resource) -> dict[str, Any]:
+    def entry(self, resource: Resource, hidden: frozenset[str] = frozenset()) -> dict[str, Any]:
         """The journal's entry of a made resource: its spec as shown, and a fingerprint of the
         whole spec (secrets included) to tell a change by."""
         return {
             "type": resource.type,
             "name": resource.name,
-            "spec": shown(resource),
+            "spec": shown(resource, hidden),
             "fingerprint": self.fingerprint(canonical(resource.spec)),
         }
 
@@ -156,13 +156,13 @@ class Parts:
         for resource, _ in plan.update:
             await self.change(principal, slug, resource, running)
             journal[:] = [
-                self.entry(resource) if (e["type"], e["name"]) == resource.key else e
+                self.entry(resource, plan.hidden) if (e["type"], e["name"]) == resource.key else e
                 for e in journal
             ]
             await saved()
         for resource in sorted(plan.create, key=lambda r: ORDER.index(r.type)):
             token = await self.make(principal, slug, resource, running)
-            journal.append(self.entry(resource))
+            journal.append(self.entry(resource, plan.hidden))
             if token is not None:
                 tokens[resource.name] = token
             await saved()

@@ -12,6 +12,7 @@ from typing import Any, Protocol
 from twinlink.auth.rights import Principal
 from twinlink.deploy.package import PACKAGE_FILE, Package, checked_parameters, parse_package
 from twinlink.deploy.plan import ORDER, Resource
+from twinlink.deploy.secrets import hidden_values, secret_names
 from twinlink.deploy.template import Renderer, Variables, render_all
 from twinlink.domain.errors import DocumentError, InvalidInputError, Problem
 from twinlink.domain.slug import SLUG
@@ -46,6 +47,15 @@ class Loaded:
     @property
     def files(self) -> set[str]:
         return {f.path for f in self.resolved.version.files}
+
+    @property
+    def secret_names(self) -> frozenset[str]:
+        return secret_names(self.package.parameters)
+
+    @property
+    def hidden(self) -> frozenset[str]:
+        """The secret parameters' values, masked in plans and journals."""
+        return hidden_values(self.parameters, self.secret_names)
 
     def has_phase(self, phase: str) -> bool:
         return f"lifecycle/{phase}" in self.files

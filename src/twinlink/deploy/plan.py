@@ -32,10 +32,11 @@ class Resource:
         return self.type, self.name
 
 
-def shown(resource: Resource) -> dict[str, Any]:
-    """The spec as plans show it and journals keep it: secret-looking values masked, and a
-    service's `auth` but its `method`."""
-    masked: dict[str, Any] = _mask(resource.spec)
+def shown(resource: Resource, hidden: frozenset[str] = frozenset()) -> dict[str, Any]:
+    """The spec as plans show it and journals keep it: secret-looking values masked, a
+    service's `auth` but its `method`, and the `hidden` texts (secret parameters' values)
+    wherever they were written in."""
+    masked: dict[str, Any] = _mask(_hide(resource.spec, hidden) if hidden else resource.spec)
     if resource.type == "service" and isinstance(masked.get("auth"), dict):
         masked["auth"] = {k: v if k == "method" else MASK for k, v in masked["auth"].items()}
     return masked
@@ -49,6 +50,20 @@ def _mask(value: Any) -> Any:
         }
     if isinstance(value, list):
         return [_mask(v) for v in value]
+    return value
+
+
+def _hide(value: Any, hidden: frozenset[str]) -> Any:
+    if isinstance(value, dict):
+        return {k: _hide(v, hidden) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_hide(v, hidden) for v in value]
+    if isinstance(value, str):
+        for text in hidden:
+            value = value.replace(text, MASK)
+        return value
+    if isinstance(value, int | float) and not isinstance(value, bool) and str(value) in hidden:
+        return MASK
     return value
 
 
@@ -80,10 +95,13 @@ class Plan:
     update: list[tuple[Resource, list[dict[str, Any]]]] = field(default_factory=list)
     delete: list[tuple[str, str]] = field(default_factory=list)
     keep: list[tuple[str, str]] = field(default_factory=list)
+    hidden: frozenset[str] = frozenset()  # secret parameters' values, masked in `create`
 
     def view(self) -> dict[str, Any]:
         return {
-            "create": [{"type": r.type, "name": r.name, "spec": shown(r)} for r in self.create],
+            "create": [
+                {"type": r.type, "name": r.name, "spec": shown(r, self.hidden)} for r in self.create
+            ],
             "update": [{"type": r.type, "name": r.name, "changes": c} for r, c in self.update],
             "delete": [{"type": t, "name": n} for t, n in self.delete],
             "keep": [{"type": t, "name": n} for t, n in self.keep],
@@ -94,20 +112,21 @@ class Plan:
         return not (self.create or self.update or self.delete)
 
 
-def plan_create(resources: list[Resource]) -> Plan:
-    return Plan(create=list(resources))
+def plan_create(resources: list[Resource], hidden: frozenset[str] = frozenset()) -> Plan:
+    return Plan(create=list(resources), hidden=hidden)
 
 
 def plan_change(
     journal: list[dict[str, Any]],
     resources: list[Resource],
     fingerprints: dict[tuple[str, str], str],
+    hidden: frozenset[str] = frozenset(),
 ) -> Plan:
     """From what a deployment made (its journal) to `resources`. `fingerprints` are those of
     the new resources' whole specs, as the journal keeps them. A device is compared by name
     alone: a new description is not worth a new token."""
     made = {(e["type"], e["name"]): e for e in journal}
-    plan = Plan()
+    plan = Plan(hidden=hidden)
     for resource in resources:
         entry = made.get(resource.key)
         if entry is None:
@@ -115,7 +134,7 @@ def plan_change(
         elif resource.type == "device" or entry.get("fingerprint") == fingerprints[resource.key]:
             plan.keep.append(resource.key)
         else:
-            diff = changes(entry["spec"], shown(resource))
+            diff = changes(entry["spec"], shown(resource, hidden))
             # Specs equal as shown but not as given: a masked (secret) value changed.
             plan.update.append((resource, diff or [{"path": "(secret)", "from": MASK, "to": MASK}]))
     wanted = {r.key for r in resources}

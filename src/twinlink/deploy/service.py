@@ -16,10 +16,11 @@ from typing import Any
 
 from twinlink.auth.rights import Principal, has_role
 from twinlink.auth.vault import Vault
+from twinlink.deploy import secrets as sealing
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.loading import Library, Loaded, Where, check_name, load, package_ref
 from twinlink.deploy.phases import PhaseRuns, Phases
-from twinlink.deploy.plan import Plan, canonical, plan_change, plan_create
+from twinlink.deploy.plan import MASK, Plan, canonical, plan_change, plan_create
 from twinlink.deploy.runs import RunTarget
 from twinlink.domain.deployments import DeploymentRecord
 from twinlink.domain.errors import (
@@ -132,7 +133,7 @@ class DeploymentService:
         self._signed_in(principal)
         name = check_name(name)
         loaded = await self._load(principal, package_ref(package, scope), parameters, name)
-        return plan_create(loaded.resources)
+        return plan_create(loaded.resources, loaded.hidden)
 
     async def create(
         self,
@@ -153,18 +154,20 @@ class DeploymentService:
         async with self._lock:
             await self._name_free(name)
             now = time.time_ns()
+            shown_params, secret = sealing.split(loaded.parameters, loaded.secret_names)
             record = await self.store.create_deployment(
                 DeploymentRecord(
                     id=0,
                     name=name,
                     package=loaded.pinned,
                     package_ref=package,
-                    parameters=loaded.parameters,
+                    parameters=shown_params,
                     state="planned" if planned else "applying",
                     twin=name,
                     created_by=user.id,
                     created_ns=now,
                     updated_ns=now,
+                    secrets=sealing.seal(self.vault, sealing.Sealed(parameters=secret)),
                 )
             )
             try:
@@ -175,7 +178,7 @@ class DeploymentService:
             tokens: dict[str, str] = {}
             if not planned:
                 tokens = await self._apply_create(principal, record, loaded, start)
-        return Created(record, plan_create(loaded.resources), tokens)
+        return Created(record, plan_create(loaded.resources, loaded.hidden), tokens)
 
     async def create_planned(self, principal: Principal, name: str) -> Created:
         """Apply a deployment stored as `planned`."""
@@ -184,14 +187,16 @@ class DeploymentService:
             raise ConflictError(f"deployment {name!r} is {record.state}, not planned")
         if not (principal.is_admin or (principal.user and principal.user.id == record.created_by)):
             raise ForbiddenError(f"only who planned {name!r} (or an admin) may create it")
-        loaded = await self._load(principal, record.package, record.parameters, name)
+        loaded = await self._load(
+            principal, record.package, sealing.parameters_of(self.vault, record), name
+        )
         self.phases.check(principal, record.created_by, loaded, "create")
         async with self._lock:
             await self._name_free(name, twin_only=True)
             record.state = "applying"
             await self._save(record)
             tokens = await self._apply_create(principal, record, loaded, start=False)
-        return Created(record, plan_create(loaded.resources), tokens)
+        return Created(record, plan_create(loaded.resources, loaded.hidden), tokens)
 
     @staticmethod
     def _signed_in(principal: Principal) -> User:
@@ -223,10 +228,10 @@ class DeploymentService:
             for resource in loaded.resources:
                 step = f"{resource.type} {resource.name!r}"
                 token = await self.parts.make(principal, record.name, resource, running=start)
-                record.journal.append(self.parts.entry(resource))
+                record.journal.append(self.parts.entry(resource, loaded.hidden))
                 if token is not None:
                     tokens[resource.name] = token
-                    record.secrets = self.vault.seal(tokens)
+                    record.secrets = sealing.with_tokens(self.vault, record, tokens)
                 await self._save(record)
         except BaseException as err:
             await self._fail(record, f"making {step} failed: {err}; what was made before it "
@@ -263,7 +268,9 @@ class DeploymentService:
             raise TwinlinkError("lifecycle runs are not set up on this server")
         if not record.live or record.state == "planned":
             raise ConflictError(f"deployment {name!r} is {record.state}: it has nothing to run")
-        loaded = await self._load(SYSTEM, record.package, record.parameters, record.name)
+        loaded = await self._load(
+            SYSTEM, record.package, sealing.parameters_of(self.vault, record), record.name
+        )
         target = self.phases.target(record, loaded, self.device_tokens(record))
         return await self.runs.start(principal, target, phase)
 
@@ -272,7 +279,9 @@ class DeploymentService:
         record = await self.store.get_deployment(deployment_id)
         if record is None or self.library is None:
             raise NotFoundError(f"no deployment {deployment_id}")
-        loaded = await self._load(SYSTEM, record.package, record.parameters, record.name)
+        loaded = await self._load(
+            SYSTEM, record.package, sealing.parameters_of(self.vault, record), record.name
+        )
         return self.phases.target(record, loaded, self.device_tokens(record))
 
     # -- lifecycle -------------------------------------------------------------------------
@@ -344,14 +353,21 @@ class DeploymentService:
         record = await self._changeable(principal, name)
         if parameters is not None and not isinstance(parameters, dict):
             raise InvalidInputError("`parameters` is a JSON object of the parameters to change")
-        params = {**record.parameters, **(parameters or {})}
+        sealed = sealing.unseal(self.vault, record)
+        given = {
+            k: v
+            for k, v in (parameters or {}).items()
+            if not (k in sealed.parameters and v == MASK)
+        }  # a secret shown back: kept
+        params = {**record.parameters, **sealed.parameters, **given}  # fmt: skip
         ref = package_ref(package, None) if package else record.package
         loaded = await self._load(principal, ref, params, name)
         fingerprints = {r.key: self.parts.fingerprint(canonical(r.spec)) for r in loaded.resources}
-        plan = plan_change(record.journal, loaded.resources, fingerprints)
+        plan = plan_change(record.journal, loaded.resources, fingerprints, loaded.hidden)
         if dry_run or record.state == "planned":
             if not dry_run:
-                record.package, record.parameters = loaded.pinned, loaded.parameters
+                sealing.set_parameters(self.vault, record, loaded.parameters, loaded.secret_names)
+                record.package = loaded.pinned
                 record.package_ref = package or record.package_ref
                 await self._save(record)
             return Created(record, plan, {})
@@ -370,9 +386,9 @@ class DeploymentService:
                 await self._save(record)
                 raise
             record.error = None
-            if tokens:
-                record.secrets = self.vault.seal({**self.device_tokens(record), **tokens})
-            record.package, record.parameters = loaded.pinned, loaded.parameters
+            sealing.set_parameters(self.vault, record, loaded.parameters, loaded.secret_names)
+            record.secrets = sealing.with_tokens(self.vault, record, tokens)
+            record.package = loaded.pinned
             record.package_ref = package or record.package_ref
             await self._save(record)
             await self._release(record)
@@ -384,11 +400,13 @@ class DeploymentService:
         the server's rights: the version is pinned and held for the deployment)."""
         if self.runs is None:
             return None
-        return await self._load(SYSTEM, record.package, record.parameters, record.name)
+        return await self._load(
+            SYSTEM, record.package, sealing.parameters_of(self.vault, record), record.name
+        )
 
     def device_tokens(self, record: DeploymentRecord) -> dict[str, str]:
         """The deployment's device tokens (for its lifecycle runs); never answered by the API."""
-        return self.vault.unseal(record.secrets) if record.secrets else {}
+        return sealing.unseal(self.vault, record).device_tokens
 
 
 def holder(record: DeploymentRecord) -> str:

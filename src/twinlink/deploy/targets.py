@@ -27,7 +27,7 @@ def run_target(
         twin=record.twin,
         owner_id=record.created_by,
         prepare=prepare,
-        params=dict(record.parameters),
+        params=dict(loaded.parameters),  # with the secret ones
         device_tokens=device_tokens,
         lifecycle={
             phase: PhaseSettings(limits.timeout_s, limits.memory_mb)
