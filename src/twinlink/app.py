@@ -182,13 +182,8 @@ def build_services(settings: Settings) -> Services:
 def _deployment_service(settings: Settings, services: Services, vault: Vault) -> DeploymentService:
     parts = Parts(services.registry, services.devices, services.gateway, services.processors,
                   services.connectors, vault.fingerprint)  # fmt: skip
-    runs = getattr(services, "runs", None)  # the lifecycle runs (deploy/runs.py), if set up
-    deployments = DeploymentService(
-        services.store, parts, services.library, vault, settings.base_url, runs
-    )
-    if runs is not None:  # a run queued by another node gets its target rebuilt here
-        runs.target_loader = lambda run: deployments.target_of(run.deployment_id)
-    return deployments
+    # The lifecycle runs are set on it by RunService.serve, once both exist.
+    return DeploymentService(services.store, parts, services.library, vault, settings.base_url)
 
 
 def _processor_service(
