@@ -280,3 +280,17 @@ def test_a_server_stop_cancels_its_runs_and_a_crash_fails_them(tmp_path: Path) -
         poll_until(lambda: not _alive(pid), "the dead server's run to be killed at restart")
     finally:
         stop_server(server)
+
+
+def test_a_script_that_changes_its_files_changes_copies_not_the_library(server: Server) -> None:
+    script = "chmod u+w twin.yaml\necho '# changed by the run' >> twin.yaml\ncat twin.yaml\n"
+    name = deploy_package(server, {"evolve": script})
+    with server.admin as c:
+        first = start_run(c, name, "evolve")
+        wait_state(server, first["id"], "succeeded")
+        assert "# changed by the run" in log_of(c, first["id"])
+        r = c.get(f"/api/v1/library/me/twins/{name}/versions/latest/files/twin.yaml")
+        assert r.status_code == 200 and "changed" not in r.text  # the library's file as pushed
+        second = start_run(c, name, "evolve")
+        wait_state(server, second["id"], "succeeded")
+        assert log_of(c, second["id"]).count("# changed by the run") == 1  # a fresh copy

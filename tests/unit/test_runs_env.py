@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from twinlink.deploy.runenv import RUN_PATH, env_name, param_text, run_environment
-from twinlink.deploy.runner import Limits, command_of
+from twinlink.deploy.runner import Limits, command_of, own_files
 from twinlink.deploy.runs import PhaseSettings, RunTarget
 
 
@@ -84,3 +84,20 @@ def test_a_phases_limits_are_its_own_then_the_packages_then_the_servers() -> Non
     assert target.limits("execute", server) == Limits(0, 64)
     assert target.limits("analyze", server) == Limits(600, 2048)
     assert RunTarget(1, "rig", "rig", 1, prepare).limits("create", server) == server
+
+
+def test_the_working_dirs_hard_links_become_the_runs_own_copies(tmp_path: Path) -> None:
+    blob = tmp_path / "blob"
+    blob.write_text("as pushed\n")
+    os.chmod(blob, 0o444)
+    work = tmp_path / "work"
+    (work / "sub").mkdir(parents=True)
+    os.link(blob, work / "sub" / "config.json")
+    (work / "own.txt").write_text("mine\n")
+    assert own_files(work) == 1
+    copy = work / "sub" / "config.json"
+    assert copy.read_text() == "as pushed\n" and os.stat(copy).st_nlink == 1
+    assert os.stat(copy).st_mode & 0o777 == 0o444 and os.stat(blob).st_nlink == 1
+    os.chmod(copy, 0o644)
+    copy.write_text("changed\n")
+    assert blob.read_text() == "as pushed\n"

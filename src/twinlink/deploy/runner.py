@@ -13,7 +13,9 @@ import asyncio
 import contextlib
 import os
 import resource
+import shutil
 import signal
+import stat
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -50,6 +52,25 @@ def command_of(script: Path) -> list[str]:
     if head.startswith(b"\x7fELF"):
         return [str(script)]
     return ["/bin/sh", str(script)]
+
+
+def own_files(work: Path) -> int:
+    """Make every file under `work` the run's own: a hard link (the library materializes
+    versions as links to its blobs) becomes a copy, so a script that makes a file writable and
+    changes it changes its copy, not the library's content-addressed blob. The files copied."""
+    copied = 0
+    for folder, _, names in os.walk(work):
+        for name in names:
+            path = Path(folder) / name
+            info = path.lstat()
+            if not stat.S_ISREG(info.st_mode) or info.st_nlink < 2:
+                continue
+            temp = path.with_name(f".{name}.own")
+            shutil.copyfile(path, temp)
+            os.chmod(temp, stat.S_IMODE(info.st_mode))
+            os.replace(temp, path)
+            copied += 1
+    return copied
 
 
 def _limits_in_child(memory_mb: int) -> Callable[[], None]:

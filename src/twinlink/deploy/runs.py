@@ -27,7 +27,7 @@ from twinlink.auth.service import AuthService
 from twinlink.config import Settings
 from twinlink.deploy import runlog
 from twinlink.deploy.runenv import run_environment
-from twinlink.deploy.runner import Limits, Outcome, run_script
+from twinlink.deploy.runner import Limits, Outcome, own_files, run_script
 from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.domain.runs import PHASE_PATTERN, TWIN_SCOPE, RunRecord
 from twinlink.store.runs import RunStore
@@ -318,6 +318,7 @@ class RunService:
         try:
             await asyncio.to_thread(work.mkdir, parents=True)
             await target.prepare(work)
+            await asyncio.to_thread(own_files, work)  # never the library's blobs themselves
             script = work / "lifecycle" / run.phase
             if not script.is_file():
                 outcome = Outcome("failed", None, f"the package has no lifecycle/{run.phase}")
