@@ -77,6 +77,21 @@ describe("LibraryPage", () => {
     expect(await screen.findByRole("alert")).toHaveTextContent("(409): version sha256:1111 of common/models/tingen-beam is held by deployment:rig-a");
   });
 
+  it("deletes a whole asset after asking, and closes it", async () => {
+    const deleted: string[] = [];
+    setup((url, init) => {
+      if (init?.method !== "DELETE") return null;
+      deleted.push(url);
+      return new Response(null, { status: 204 });
+    });
+    const confirm = vi.spyOn(window, "confirm").mockReturnValue(true);
+    await userEvent.click(await screen.findByRole("button", { name: "common/models/tingen-beam" }));
+    await userEvent.click(await screen.findByRole("button", { name: "Delete asset" }));
+    expect(confirm).toHaveBeenCalledWith(expect.stringContaining("common/models/tingen-beam with all its versions"));
+    await vi.waitFor(() => expect(screen.queryByRole("region", { name: "Asset common/models/tingen-beam" })).toBeNull());
+    expect(deleted).toEqual(["/api/v1/library/common/models/tingen-beam"]);
+  });
+
   it("points a tag at a version, and removes one", async () => {
     const calls: [string, string, unknown][] = [];
     setup((url, init) => {

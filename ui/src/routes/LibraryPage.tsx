@@ -147,7 +147,19 @@ export function LibraryPage() {
       {!assets.data && !assets.error && <Loading />}
       {assets.data && assets.data.length === 0 && <Empty>{q ? `Nothing in the library matches “${q}”.` : "No asset here yet: upload one."}</Empty>}
       {assets.data && assets.data.length > 0 && <AssetTable assets={assets.data} open={open} onOpen={(ref) => set("asset", ref === open ? "" : ref)} />}
-      {parts?.length === 3 && <AssetDetails key={`${open!}#${uploads}`} scope={parts[0]!} kind={parts[1]!} name={parts[2]!} onChanged={assets.reload} />}
+      {parts?.length === 3 && (
+        <AssetDetails
+          key={`${open!}#${uploads}`}
+          scope={parts[0]!}
+          kind={parts[1]!}
+          name={parts[2]!}
+          onChanged={assets.reload}
+          onDeleted={() => {
+            assets.reload();
+            set("asset", "");
+          }}
+        />
+      )}
     </main>
   );
 }

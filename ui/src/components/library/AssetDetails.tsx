@@ -2,6 +2,7 @@
 // archive, and deleting a version (refused, with the reason, while a deployment holds it).
 import { useState } from "react";
 import {
+  deleteAsset,
   deleteTag,
   deleteVersion,
   downloadArchive,
@@ -23,6 +24,8 @@ interface Props {
   name: string;
   /** Told when a version was deleted (the list's counts change). */
   onChanged: () => void;
+  /** Told when the whole asset was deleted. */
+  onDeleted: () => void;
 }
 
 function Files({ scope, kind, name, digest }: { scope: string; kind: string; name: string; digest: string }) {
@@ -98,7 +101,7 @@ function VersionRow({ v, open, onToggle, onDownload, onDelete, onUntag }: {
   );
 }
 
-export function AssetDetails({ scope, kind, name, onChanged }: Props) {
+export function AssetDetails({ scope, kind, name, onChanged, onDeleted }: Props) {
   const asset = useApi((signal) => getAsset(scope, kind, name, signal), [scope, kind, name]);
   const [open, setOpen] = useState<string | null>(null);
   const [error, setError] = useState<Error | null>(null);
@@ -118,12 +121,25 @@ export function AssetDetails({ scope, kind, name, onChanged }: Props) {
       onChanged();
     });
   }
+  function removeAsset() {
+    if (!window.confirm(`Delete ${scope}/${kind}/${name} with all its versions and tags? It cannot be undone.`)) return;
+    void attempt(async () => {
+      await deleteAsset(scope, kind, name);
+      onDeleted();
+    });
+  }
   if (asset.error && !asset.data) return <ErrorMessage error={asset.error} onRetry={asset.reload} />;
   if (!asset.data) return <Loading />;
   const a = asset.data;
   return (
     <section className="card" aria-label={`Asset ${a.ref}`}>
-      <h2>{a.ref}</h2>
+      <div className="dep-toolbar">
+        <h2>{a.ref}</h2>
+        <span className="spacer" />
+        <button type="button" className="proc-danger" onClick={removeAsset}>
+          Delete asset
+        </button>
+      </div>
       {a.description && <p>{a.description}</p>}
       <dl className="props">
         <dt>Reference</dt>
