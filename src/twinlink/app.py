@@ -183,7 +183,9 @@ def _deployment_service(settings: Settings, services: Services, vault: Vault) ->
     parts = Parts(services.registry, services.devices, services.gateway, services.processors,
                   services.connectors, vault.fingerprint)  # fmt: skip
     # The lifecycle runs are set on it by RunService.serve, once both exist.
-    return DeploymentService(services.store, parts, services.library, vault, settings.base_url)
+    shared = services.storage_shared is not None  # other nodes may be applying (PostgreSQL)
+    return DeploymentService(services.store, parts, services.library, vault, settings.base_url,
+                             shared_store=shared)  # fmt: skip
 
 
 def _processor_service(

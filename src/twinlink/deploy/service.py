@@ -36,6 +36,8 @@ from twinlink.store.base import MetadataStore
 log = logging.getLogger("twinlink.deploy")
 # Who undoes a create cut off by a crash, at the next start: nobody is signed in then.
 SYSTEM = Principal(User(id=0, username="twinlink", is_admin=True, groups=[], created_ns=0))
+# On a shared store: a create in `applying` that has not moved for 10 minutes was cut off.
+STALE_AFTER_NS = 600 * 10**9
 
 
 @dataclass(slots=True)
@@ -54,6 +56,7 @@ class DeploymentService:
         vault: Vault,
         server_url: str,
         runs: PhaseRuns | None = None,
+        shared_store: bool = False,
     ) -> None:
         self.store = store
         self.parts = parts
@@ -64,10 +67,16 @@ class DeploymentService:
         self.phases.runs = runs
         # One change of deployments at a time: a plan is applied against what it read.
         self._lock = asyncio.Lock()
+        # On a store other nodes share, one of them may be applying right now: only a create
+        # that has not moved for this long was cut off (each step is saved as it is made).
+        self.stale_after_ns = STALE_AFTER_NS if shared_store else 0
 
     async def open(self) -> None:
         """Undo the creates a crash cut off (deployments left `applying`)."""
+        now = time.time_ns()
         for record in await self.store.list_deployments("applying"):
+            if now - record.updated_ns < self.stale_after_ns:
+                continue  # another node's, going on (a node that starts later undoes it)
             log.warning("deployment %s was cut off while applying; undoing it", record.name,
                         extra={"event": "deployment_recovered"})  # fmt: skip
             await self._fail(record, "the server stopped while this deployment was applied; "
