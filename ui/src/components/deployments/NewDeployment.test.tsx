@@ -93,6 +93,10 @@ describe("NewDeployment", () => {
     await userEvent.click(screen.getByRole("button", { name: "Plan" }));
     expect(await screen.findByText("must be ≥ 0, ≤ 2")).toBeInTheDocument();
     expect(bodies(fetch, "/api/v1/deployments?dry_run=true")).toEqual([]);
+    // Changed, the value is no longer marked.
+    await userEvent.clear(zeta);
+    await userEvent.type(zeta, "1");
+    expect(screen.queryByText("must be ≥ 0, ≤ 2")).toBeNull();
   });
 
   it("places the deployments API's 'parameter NAME: message' at that field", async () => {

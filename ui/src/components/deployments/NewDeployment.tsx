@@ -52,8 +52,12 @@ function useDeployForm() {
   const schema = info.data?.parameters ?? null;
   // A newly read package starts from its defaults; values typed for another one are dropped.
   useEffect(() => setParameters(parameterDefaults(schema)), [schema]);
-  // Any change makes the plan shown stale: it must be asked for again.
-  useEffect(() => setPlan(null), [choice, name, parameters]);
+  // Any change makes the plan shown stale (it must be asked for again), and the messages
+  // about what was sent.
+  useEffect(() => {
+    setPlan(null);
+    setErrors(NO_ERRORS);
+  }, [choice, name, parameters]);
   const known = useMemo(() => new Set(["name", "package", "parameters", ...(schema ? schemaPaths(schema, schema, "parameters") : [])]), [schema]);
   const request = (): DeploymentRequest => ({ package: packageRef(choice), name, parameters });
   function problems(): boolean {

@@ -30,7 +30,10 @@ export function Reconfigure({ deployment, onDone, onCancel }: Props) {
   const info = usePackageInfo({ asset, version });
   const schema = info.data?.parameters ?? null;
   const known = useMemo(() => new Set(["parameters", "package", ...(schema ? schemaPaths(schema, schema, "parameters") : [])]), [schema]);
-  useEffect(() => setPlan(null), [version, parameters]);
+  useEffect(() => {
+    setPlan(null);
+    setErrors(NO_ERRORS);
+  }, [version, parameters]);
 
   const change = (): ChangeRequest => ({
     parameters,
