@@ -1,10 +1,8 @@
 """Deployments: a twin package planned, applied all or nothing, and taken through its lifecycle
 (`planned → created → running ⇄ stopped → terminated`, `failed` for a create that was undone).
 
-Rights: deploying needs a signed-in user who may read the package; the twin is theirs (the
-owner role). A deployment is seen by whoever may see its twin (and its creator, admins); it is
-changed by the twin's owners and admins.
-"""
+Deploying needs a signed-in user who may read the package; the twin is theirs (the owner
+role). Who may see and change a deployment: access.py."""
 
 from __future__ import annotations
 
@@ -14,9 +12,10 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from twinlink.auth.rights import Principal, has_role
+from twinlink.auth.rights import Principal
 from twinlink.auth.vault import Vault
 from twinlink.deploy import secrets as sealing
+from twinlink.deploy.access import check_may_change, may_see, signed_in
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.loading import Library, Loaded, Where, check_name, load, package_ref
 from twinlink.deploy.phases import PhaseRuns, Phases
@@ -97,31 +96,18 @@ class DeploymentService:
     # -- reading ---------------------------------------------------------------------------
 
     async def list(self, principal: Principal) -> list[DeploymentRecord]:
-        return [r for r in await self.store.list_deployments() if await self._may_see(principal, r)]
+        reg = self.parts.registry
+        return [r for r in await self.store.list_deployments() if await may_see(reg, principal, r)]
 
     async def get(self, principal: Principal, name: str) -> DeploymentRecord:
         record = await self.store.find_deployment(name)
-        if record is None or not await self._may_see(principal, record):
+        if record is None or not await may_see(self.parts.registry, principal, record):
             raise NotFoundError(f"no deployment {name!r}")
         return record
 
-    async def _may_see(self, principal: Principal, record: DeploymentRecord) -> bool:
-        if principal.is_admin or (principal.user and principal.user.id == record.created_by):
-            return True
-        try:
-            await self.parts.registry.require_twin(principal, record.twin)
-        except NotFoundError:
-            return False
-        return record.live
-
     async def _changeable(self, principal: Principal, name: str) -> DeploymentRecord:
         record = await self.get(principal, name)
-        if not record.live:
-            raise ConflictError(f"deployment {name!r} is {record.state}; create it again")
-        twin = await self.parts.registry.get_twin(record.twin)
-        role = await self.parts.registry.role_of(principal, twin) if twin else None
-        if not has_role(principal, role, "owner"):
-            raise ForbiddenError(f"changing deployment {name!r} needs the owner role on its twin")
+        await check_may_change(self.parts.registry, principal, record)
         return record
 
     # -- create ----------------------------------------------------------------------------
@@ -139,7 +125,7 @@ class DeploymentService:
         self, principal: Principal, package: str, name: Any, parameters: Any, scope: str | None
     ) -> Plan:
         """What creating the deployment would make; nothing is stored."""
-        self._signed_in(principal)
+        signed_in(principal)
         name = check_name(name)
         loaded = await self._load(principal, package_ref(package, scope), parameters, name)
         return plan_create(loaded.resources, loaded.hidden)
@@ -155,7 +141,7 @@ class DeploymentService:
         start: bool = False,
         planned: bool = False,
     ) -> Created:
-        user = self._signed_in(principal)
+        user = signed_in(principal)
         name = check_name(name)
         loaded = await self._load(principal, package_ref(package, scope), parameters, name)
         if not planned:
@@ -206,12 +192,6 @@ class DeploymentService:
             await self._save(record)
             tokens = await self._apply_create(principal, record, loaded, start=False)
         return Created(record, plan_create(loaded.resources, loaded.hidden), tokens)
-
-    @staticmethod
-    def _signed_in(principal: Principal) -> User:
-        if principal.user is None:
-            raise ForbiddenError("sign in to deploy twin packages")
-        return principal.user
 
     async def _name_free(self, name: str, twin_only: bool = False) -> None:
         existing = await self.store.find_deployment(name)
