@@ -323,6 +323,8 @@ async def _stop_started(started: list[Callable[[], Awaitable[object]]]) -> None:
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    if services.deployments is not None:  # terminate/clean phases no longer waited for
+        await services.deployments.close()
     if services.runs is not None:  # their process groups killed, the runs cancelled
         await services.runs.close()
     if services.workspaces is not None:  # their JupyterLabs stop, their tokens are revoked
