@@ -1,7 +1,8 @@
 """The web app's Library page in a real browser (Debian's chromium driven by playwright-core,
 ui/e2e/library.mjs) against a real server: upload a file and a zip archive, see them listed,
 filtered by kind and found by search, list an archive's files (the executable bit kept),
-download a version as a zip, delete a version, set and remove tags. Screenshots go to
+download a version as a zip, delete a version, set and remove tags, compose a twin package
+from an asset put in the cart (then planned through the API). Screenshots go to
 ui/e2e/screenshots/."""
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from tests.conftest import ROOT, Server
 pytestmark = pytest.mark.integration
 UI = ROOT / "ui"
 SHOTS = UI / "e2e" / "screenshots"
-STEPS = 7  # the steps library.mjs prints "ok <name>" for
+STEPS = 8  # the steps library.mjs prints "ok <name>" for
 
 
 def _zip(path: Path) -> Path:
@@ -58,7 +59,9 @@ def test_upload_an_asset_and_see_it_listed(server: Server, tmp_path: Path) -> No
         r = admin.get("/api/v1/library", params={"scope": "common"})
         assert r.status_code == 200, r.text
         assets = {a["ref"]: a for a in r.json()["assets"]}
-        assert set(assets) == {"common/data/tank-readings", "common/tools/tank-tool"}
+        assert set(assets) == {
+            "common/data/tank-readings", "common/tools/tank-tool", "common/twins/tank-kit",
+        }  # fmt: skip
         assert set(assets["common/data/tank-readings"]["tags"]) == {"latest", "stable"}
         assert assets["common/data/tank-readings"]["versions"] == 1
         r = admin.get("/api/v1/library/common/data/tank-readings/versions/stable")
@@ -67,3 +70,13 @@ def test_upload_an_asset_and_see_it_listed(server: Server, tmp_path: Path) -> No
         r = admin.get("/api/v1/library/common/tools/tank-tool/versions/latest")
         files = {f["path"]: f["executable"] for f in r.json()["files"]}
         assert files == {"bin/run.sh": True, "docs/README.md": False, "tool.yaml": False}
+        # The composed package is one a deployment can be planned from, the tool pinned in it.
+        r = admin.post(
+            "/api/v1/deployments",
+            params={"dry_run": "true"},
+            json={"package": "common/twins/tank-kit@latest", "name": "kit-a"},
+        )
+        assert r.status_code == 200, r.text
+        create = r.json()["plan"]["create"]
+        assert [(e["type"], e["name"]) for e in create] == [("twin", "kit-a")]
+        assert create[0]["spec"]["description"] == "A tank with its tool"

@@ -123,6 +123,20 @@ try {
     await versions.getByText('1.1.0').waitFor({ state: 'detached' });
     await versions.getByText('latest').waitFor();
   });
+  await step('8-compose', async () => {
+    // The tool put in the package cart, composed into a twin package and pushed.
+    await page.getByRole('button', { name: 'Add common/tools/tank-tool to the package' }).click();
+    const form = page.getByRole('form', { name: 'Compose a package' });
+    await form.getByLabel('Name of lib:common/tools/tank-tool@latest in the package').fill('tool');
+    await form.getByLabel('Package name').fill('tank-kit');
+    await form.getByLabel('Scope').selectOption('common');
+    await form.getByLabel('Description').fill('A tank with its tool');
+    const yaml = await form.getByLabel('twin.yaml').inputValue();
+    if (!yaml.includes('  tool: "lib:common/tools/tank-tool@latest"')) throw new Error(`twin.yaml: ${yaml}`);
+    await form.getByRole('button', { name: 'Push package' }).click();
+    await form.getByRole('status').getByText('Pushed common/twins/tank-kit').waitFor();
+    await page.getByRole('table', { name: 'Assets' }).getByText('common/twins/tank-kit').waitFor();
+  });
   if (errors.length) throw new Error(`errors in the page: ${errors.join('; ')}`);
 } finally {
   await browser.close();

@@ -92,6 +92,44 @@ describe("LibraryPage", () => {
     expect(deleted).toEqual(["/api/v1/library/common/models/tingen-beam"]);
   });
 
+  it("composes a twin package from assets put in the cart, and pushes its twin.yaml", async () => {
+    const pushed: { url: string; body: unknown }[] = [];
+    setup((url, init) => {
+      if (!url.includes("/versions?") || init?.method !== "POST") return null;
+      pushed.push({ url, body: init.body });
+      return jsonResponse({ asset: asset("twins", "rig-kit", "user:ann"), version: { ...version(d1, ["latest"]), files: [] }, created: true }, 201);
+    });
+    await userEvent.click(await screen.findByRole("button", { name: "Add common/models/tingen-beam to the package" }));
+    const form = screen.getByRole("form", { name: "Compose a package" });
+    expect(screen.getByRole("button", { name: "Close the package" })).toBeInTheDocument();
+    const alias = within(form).getByLabelText("Name of lib:common/models/tingen-beam@latest in the package");
+    expect(alias).toHaveValue("tingen_beam");
+    await userEvent.clear(alias);
+    await userEvent.type(alias, "beam");
+    await userEvent.type(within(form).getByLabelText("Package name"), "rig-kit");
+    await userEvent.type(within(form).getByLabelText("Description"), "the rig");
+    expect(within(form).getByLabelText("twin.yaml")).toHaveValue(
+      '# A twin package composed on the Library page. Add parameters, devices, processors,\n' +
+        "# connectors and services as docs/deployments.md describes, then push it.\n" +
+        'description: "the rig"\nassets:\n  beam: "lib:common/models/tingen-beam@latest"\n' +
+        'document:\n  version: "1.0"\n  name: "${deployment.name}"\n  description: "the rig"\n',
+    );
+    await userEvent.click(within(form).getByRole("button", { name: "Push package" }));
+    expect(await within(form).findByRole("status")).toHaveTextContent("Pushed user:ann/twins/rig-kit");
+    expect(pushed[0]!.url).toBe("/api/v1/library/user%3Aann/twins/rig-kit/versions?format=file&filename=twin.yaml&tag=latest");
+    const body = pushed[0]!.body as File;
+    expect(body.name).toBe("twin.yaml");
+    const text = await new Promise<string>((resolve) => {
+      const reader = new FileReader();
+      reader.onload = () => resolve(String(reader.result));
+      reader.readAsText(body);
+    });
+    expect(text).toContain('  beam: "lib:common/models/tingen-beam@latest"');
+    // The row says it is in the cart; the cart outlives the page (the tab's sessionStorage).
+    expect(screen.getByRole("table", { name: "Assets" })).toHaveTextContent("in the package");
+    expect(JSON.parse(sessionStorage.getItem("twinlink.package-cart")!)).toEqual([{ alias: "beam", ref: "lib:common/models/tingen-beam@latest" }]);
+  });
+
   it("points a tag at a version, and removes one", async () => {
     const calls: [string, string, unknown][] = [];
     setup((url, init) => {

@@ -7,6 +7,8 @@ import { useAuth } from "../auth/AuthContext";
 import { Empty, ErrorMessage, Loading } from "../components/common/Status";
 import { formatEpochMs } from "../components/common/time";
 import { AssetDetails } from "../components/library/AssetDetails";
+import { useCart } from "../components/library/cart";
+import { ComposePackage } from "../components/library/ComposePackage";
 import { UploadForm } from "../components/library/UploadForm";
 import { useApi } from "../hooks/useApi";
 import { useDebounced } from "../hooks/useDebounced";
@@ -19,7 +21,16 @@ export function scopesOf(me: { username: string; groups: string[] } | null): str
   return [`user:${me.username}`, ...me.groups.map((g) => `group:${g}`), "common"];
 }
 
-function AssetTable({ assets, open, onOpen }: { assets: Asset[]; open: string | null; onOpen: (ref: string) => void }) {
+interface TableProps {
+  assets: Asset[];
+  open: string | null;
+  onOpen: (ref: string) => void;
+  /** Refs of the assets in the package cart. */
+  inCart: (ref: string) => boolean;
+  onAdd: (asset: Asset) => void;
+}
+
+function AssetTable({ assets, open, onOpen, inCart, onAdd }: TableProps) {
   return (
     <div className="table-scroll">
       <table className="table" aria-label="Assets">
@@ -31,6 +42,9 @@ function AssetTable({ assets, open, onOpen }: { assets: Asset[]; open: string | 
             <th>Tags</th>
             <th className="num">Versions</th>
             <th>Changed</th>
+            <th>
+              <span className="visually-hidden">Actions</span>
+            </th>
           </tr>
         </thead>
         <tbody>
@@ -52,6 +66,15 @@ function AssetTable({ assets, open, onOpen }: { assets: Asset[]; open: string | 
               </td>
               <td className="num">{a.versions}</td>
               <td>{formatEpochMs(a.updated_ns / 1e6)}</td>
+              <td className="nowrap">
+                {inCart(a.ref) ? (
+                  <span className="muted">in the package</span>
+                ) : (
+                  <button type="button" className="link-button" aria-label={`Add ${a.ref} to the package`} onClick={() => onAdd(a)}>
+                    Add to package
+                  </button>
+                )}
+              </td>
             </tr>
           ))}
         </tbody>
@@ -99,6 +122,8 @@ export function LibraryPage() {
   const { me } = useAuth();
   const [params, setParams] = useSearchParams();
   const [uploading, setUploading] = useState(false);
+  const [composing, setComposing] = useState(false);
+  const cart = useCart();
   // Counts uploads: the open asset's details are read again after each (a new version).
   const [uploads, setUploads] = useState(0);
   const kind = params.get("kind") ?? "";
@@ -124,6 +149,9 @@ export function LibraryPage() {
       <div className="dep-toolbar">
         <h1>Library</h1>
         <span className="spacer" />
+        <button type="button" aria-expanded={composing} onClick={() => setComposing(!composing)}>
+          {composing ? "Close the package" : `Compose a package (${cart.items.length})`}
+        </button>
         <button type="button" aria-expanded={uploading} onClick={() => setUploading(!uploading)}>
           {uploading ? "Close upload" : "Upload"}
         </button>
@@ -142,11 +170,33 @@ export function LibraryPage() {
           }}
         />
       )}
+      {composing && (
+        <ComposePackage
+          cart={cart}
+          scopes={scopes}
+          onPushed={(answer) => {
+            assets.reload();
+            setUploads((n) => n + 1);
+            set("asset", answer.asset.ref);
+          }}
+        />
+      )}
       <Filters kind={kind} scope={scope} scopes={scopes} q={q} set={set} />
       {assets.error && <ErrorMessage error={assets.error} onRetry={assets.reload} />}
       {!assets.data && !assets.error && <Loading />}
       {assets.data && assets.data.length === 0 && <Empty>{q ? `Nothing in the library matches “${q}”.` : "No asset here yet: upload one."}</Empty>}
-      {assets.data && assets.data.length > 0 && <AssetTable assets={assets.data} open={open} onOpen={(ref) => set("asset", ref === open ? "" : ref)} />}
+      {assets.data && assets.data.length > 0 && (
+        <AssetTable
+          assets={assets.data}
+          open={open}
+          onOpen={(ref) => set("asset", ref === open ? "" : ref)}
+          inCart={(ref) => cart.items.some((i) => i.ref.startsWith(`lib:${ref}@`))}
+          onAdd={(asset) => {
+            cart.add(asset);
+            setComposing(true);
+          }}
+        />
+      )}
       {parts?.length === 3 && (
         <AssetDetails
           key={`${open!}#${uploads}`}

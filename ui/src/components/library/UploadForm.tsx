@@ -5,7 +5,7 @@ import { formatOf, KINDS, pushVersion, shortDigest, type PushAnswer, type Upload
 import { ErrorMessage } from "../common/Status";
 import { PlainField } from "../processors/CreateFields";
 
-const NAME = /^[a-z0-9][a-z0-9._-]{0,99}$/;
+export const NAME = /^[a-z0-9][a-z0-9._-]{0,99}$/;
 export const TAG = /^[A-Za-z0-9][A-Za-z0-9._+-]{0,63}$/;
 const FORMATS: { value: UploadFormat; label: string }[] = [
   { value: "file", label: "one file" },
