@@ -58,6 +58,11 @@ def fmi_version(view: dict[str, Any]) -> str:
     return str(view["running"]["describe"]["fmi_version"])
 
 
+def started_anew(view: dict[str, Any], before: dict[str, Any]) -> bool:
+    """Whether another worker than `before`'s runs (its view says what it runs)."""
+    return view["state"] == "running" and view["pid"] not in (None, before["pid"])
+
+
 def test_a_library_fmu_is_pinned_and_runs(server: Server, fmu_files: FmuFiles) -> None:
     name = unique("beam")
     version = push_fmu(server, name, fmu_files("tingen"))
@@ -104,21 +109,24 @@ def test_a_moved_tag_leaves_an_existing_processor_on_its_version(
     with server.admin as admin:
         r = admin.post(f"/api/v1/twins/{slug}/processors/beam/restart")
         assert r.status_code == 200, r.text
-    again = wait_for(
-        server, slug, "beam", lambda p: "describe" in p["running"] and p["pid"] != running["pid"]
-    )
+    again = wait_for(server, slug, "beam", lambda p: started_anew(p, running))
     assert again["params"]["fmu"].split("@")[1] == f"{first['digest']}#tingen.fmu"
     assert fmi_version(again) == "2.0"
     newer = create(server, slug, **{**fmu_processor(slug, f"lib:models/{name}@1.0.0"),
                                     "name": "beam3", "output": "beam3"})  # fmt: skip
     assert newer["params"]["fmu"].split("@")[1] == f"{second['digest']}#tingen.fmu"
-    # Moved to the other version, the processor no longer holds the first one.
+    # Moved to the other version, the processor no longer holds the first one. Changed while
+    # its worker starts (a restart just asked for), the worker runs the new FMU.
     with server.admin as admin:
+        assert admin.post(f"/api/v1/twins/{slug}/processors/beam/restart").status_code == 200
         r = admin.patch(
             f"/api/v1/twins/{slug}/processors/beam",
             json={"params": {**fmu_processor(slug, newer["params"]["fmu"])["params"]}},
         )
         assert r.status_code == 200, r.text
+        moved = wait_for(server, slug, "beam", lambda p: started_anew(p, again)
+                         and fmi_version(p) == "3.0")  # fmt: skip
+        assert moved["params"]["fmu"] == newer["params"]["fmu"]  # restarted on the FMI 3 build
         old = f"/api/v1/library/common/models/{name}/versions/{first['digest']}"
         assert admin.delete(old).status_code == 204
 

@@ -159,6 +159,10 @@ class Supervisor:
     async def reconfigure(self, config: WorkerConfig, params_only: bool) -> bool:
         """Use `config` from now on. True when the running worker kept its state."""
         self.config = config
+        if self.state == "starting":  # it may have been sent the config before: start anew
+            self._restart_requested = True
+            await self._ask_to_stop()
+            return False
         if self.state != "running" or self._writer is None:
             return False
         if params_only:
