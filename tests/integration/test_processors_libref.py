@@ -5,6 +5,7 @@ a processor as it was, and references that cannot be used refused at create."""
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 from typing import Any
 
@@ -93,6 +94,24 @@ def test_a_held_version_cannot_be_deleted_until_its_processor_is(
         assert assert_problem(admin.delete(f"/api/v1/library/common/models/{name}"), 409)
         assert admin.delete(f"/api/v1/twins/{slug}/processors/beam").status_code == 204
         assert admin.delete(path).status_code == 204
+
+
+def test_deleting_the_twin_releases_its_processors_versions(
+    server: Server, fmu_files: FmuFiles
+) -> None:
+    name = unique("beam")
+    version = push_fmu(server, name, fmu_files("tingen"))
+    slug, _ = device_twin(server)
+    create(server, slug, **fmu_processor(slug, f"lib:models/{name}", enabled=False))
+    path = f"/api/v1/library/common/models/{name}/versions/{version['digest']}"
+    with server.admin as admin:
+        assert admin.delete(path).status_code == 409
+        assert admin.delete(f"/api/v1/twins/{slug}").status_code == 200
+        # The hold goes with the twin (released just after its delete answers).
+        deadline = time.monotonic() + 30
+        while (r := admin.delete(path)).status_code == 409 and time.monotonic() < deadline:
+            time.sleep(0.05)  # polling the real state
+        assert r.status_code == 204, r.text
 
 
 def test_a_moved_tag_leaves_an_existing_processor_on_its_version(
