@@ -10,13 +10,14 @@ import {
   startRun,
   transition,
   type Deployment,
+  type Run,
   type Transition,
 } from "../api/deployments";
 import { Empty, ErrorMessage, Loading } from "../components/common/Status";
 import { Reconfigure } from "../components/deployments/Reconfigure";
 import { RunHistory } from "../components/deployments/RunHistory";
 import { RunLog } from "../components/deployments/RunLog";
-import { useApi } from "../hooks/useApi";
+import { useApi, type ApiState } from "../hooks/useApi";
 import type { CreatedState } from "./DeploymentsPage";
 import "../components/processors/processors.css";
 import "../components/deployments/deployments.css";
@@ -155,20 +156,57 @@ function Resources({ deployment }: { deployment: Deployment }) {
   );
 }
 
-export function DeploymentPage() {
-  const { name = "" } = useParams();
+/** The device tokens handed over by the page that deployed: kept here, and taken out of the
+ * history entry at once, so that a reload or going back does not show them again. */
+function useHandedTokens(): Record<string, string> {
   const location = useLocation();
   const navigate = useNavigate();
-  // The device tokens come once, from the page that deployed: kept here, and taken out of the
-  // history entry at once so that a reload or going back does not show them again.
   const [tokens] = useState(() => (location.state as CreatedState | null)?.deviceTokens ?? {});
   useEffect(() => {
     if (location.state) navigate(location.pathname, { replace: true, state: null });
   }, [location.state, location.pathname, navigate]);
+  return tokens;
+}
+
+interface RunsProps {
+  runs: ApiState<Run[]>;
+  /** The run whose log is shown; else the active one, if any. */
+  selected: number | null;
+  onSelect: (id: number) => void;
+}
+
+/** Every run of the deployment and the log of one. */
+function RunsSection({ runs, selected, onSelect }: RunsProps) {
+  const [cancelError, setCancelError] = useState<Error | null>(null);
+  const shown = runs.data?.find((r) => r.id === selected) ?? runs.data?.find(isActive) ?? null;
+  return (
+    <>
+      <h2>Runs</h2>
+      {runs.error && <ErrorMessage error={runs.error} onRetry={runs.reload} />}
+      {cancelError && <ErrorMessage error={cancelError} />}
+      {!runs.data && !runs.error && <Loading />}
+      {runs.data && (
+        <RunHistory
+          runs={runs.data}
+          selected={shown?.id ?? null}
+          onSelect={onSelect}
+          onCancel={(id) => {
+            setCancelError(null);
+            cancelRun(id).then(runs.reload, (err: unknown) => setCancelError(err instanceof Error ? err : new Error(String(err))));
+          }}
+        />
+      )}
+      {shown ? <RunLog run={shown} onEnd={runs.reload} /> : runs.data && runs.data.length > 0 && <Empty>Choose “Log” to read a run's log.</Empty>}
+    </>
+  );
+}
+
+export function DeploymentPage() {
+  const { name = "" } = useParams();
+  const tokens = useHandedTokens();
   const deployment = useApi((signal) => getDeployment(name, signal), [name]);
   const runs = useApi((signal) => listRuns(name, signal), [name]);
   const [selected, setSelected] = useState<number | null>(null);
-  const [cancelError, setCancelError] = useState<Error | null>(null);
   const [reconfiguring, setReconfiguring] = useState(false);
   const { reload: reloadDeployment } = deployment;
   const { reload: reloadRuns } = runs;
@@ -188,7 +226,6 @@ export function DeploymentPage() {
   if (deployment.error && !deployment.data) return <main className="page"><ErrorMessage error={deployment.error} onRetry={deployment.reload} /></main>;
   if (!deployment.data) return <main className="page"><Loading /></main>;
   const d = deployment.data;
-  const shown = runs.data?.find((r) => r.id === selected) ?? runs.data?.find(isActive) ?? null;
   return (
     <main className="page">
       <p>
@@ -217,22 +254,7 @@ export function DeploymentPage() {
           onCancel={() => setReconfiguring(false)}
         />
       )}
-      <h2>Runs</h2>
-      {runs.error && <ErrorMessage error={runs.error} onRetry={runs.reload} />}
-      {cancelError && <ErrorMessage error={cancelError} />}
-      {!runs.data && !runs.error && <Loading />}
-      {runs.data && (
-        <RunHistory
-          runs={runs.data}
-          selected={shown?.id ?? null}
-          onSelect={setSelected}
-          onCancel={(id) => {
-            setCancelError(null);
-            cancelRun(id).then(reloadRuns, (err: unknown) => setCancelError(err instanceof Error ? err : new Error(String(err))));
-          }}
-        />
-      )}
-      {shown ? <RunLog run={shown} onEnd={reloadRuns} /> : runs.data && runs.data.length > 0 && <Empty>Choose “Log” to read a run's log.</Empty>}
+      <RunsSection runs={runs} selected={selected} onSelect={setSelected} />
     </main>
   );
 }

@@ -118,21 +118,39 @@ function Filters({ kind, scope, scopes, q, set }: {
   );
 }
 
-export function LibraryPage() {
-  const { me } = useAuth();
+interface ToolbarProps {
+  composing: boolean;
+  uploading: boolean;
+  /** How many assets the package cart holds. */
+  inCart: number;
+  onCompose: () => void;
+  onUpload: () => void;
+}
+
+function Toolbar({ composing, uploading, inCart, onCompose, onUpload }: ToolbarProps) {
+  return (
+    <>
+      <div className="dep-toolbar">
+        <h1>Library</h1>
+        <span className="spacer" />
+        <button type="button" aria-expanded={composing} onClick={onCompose}>
+          {composing ? "Close the package" : `Compose a package (${inCart})`}
+        </button>
+        <button type="button" aria-expanded={uploading} onClick={onUpload}>
+          {uploading ? "Close upload" : "Upload"}
+        </button>
+      </div>
+      <p className="muted">
+        Data, models, tools, functions and twin packages, in your own space, your groups' and common. Versions are immutable; tags such as latest point at them.
+      </p>
+    </>
+  );
+}
+
+/** The filters and the open asset, kept in the page's URL; `set` changes one (typing in the
+ * search box replaces the history entry instead of adding one per letter). */
+function useLibraryView() {
   const [params, setParams] = useSearchParams();
-  const [uploading, setUploading] = useState(false);
-  const [composing, setComposing] = useState(false);
-  const cart = useCart();
-  // Counts uploads: the open asset's details are read again after each (a new version).
-  const [uploads, setUploads] = useState(0);
-  const kind = params.get("kind") ?? "";
-  const scope = params.get("scope") ?? "";
-  const q = params.get("q") ?? "";
-  const open = params.get("asset");
-  const query = useDebounced(q, 250);
-  const assets = useApi((signal) => listAssets({ kind, scope, q: query }, signal), [kind, scope, query]);
-  const scopes = scopesOf(me);
   const set = (key: string, value: string) =>
     setParams(
       (prev) => {
@@ -143,22 +161,36 @@ export function LibraryPage() {
       },
       { replace: key === "q" },
     );
+  return {
+    kind: params.get("kind") ?? "",
+    scope: params.get("scope") ?? "",
+    q: params.get("q") ?? "",
+    open: params.get("asset"),
+    set,
+  };
+}
+
+export function LibraryPage() {
+  const { me } = useAuth();
+  const [uploading, setUploading] = useState(false);
+  const [composing, setComposing] = useState(false);
+  const cart = useCart();
+  // Counts uploads: the open asset's details are read again after each (a new version).
+  const [uploads, setUploads] = useState(0);
+  const { kind, scope, q, open, set } = useLibraryView();
+  const query = useDebounced(q, 250);
+  const assets = useApi((signal) => listAssets({ kind, scope, q: query }, signal), [kind, scope, query]);
+  const scopes = scopesOf(me);
   const parts = open?.split("/");
   return (
     <main className="page">
-      <div className="dep-toolbar">
-        <h1>Library</h1>
-        <span className="spacer" />
-        <button type="button" aria-expanded={composing} onClick={() => setComposing(!composing)}>
-          {composing ? "Close the package" : `Compose a package (${cart.items.length})`}
-        </button>
-        <button type="button" aria-expanded={uploading} onClick={() => setUploading(!uploading)}>
-          {uploading ? "Close upload" : "Upload"}
-        </button>
-      </div>
-      <p className="muted">
-        Data, models, tools, functions and twin packages, in your own space, your groups' and common. Versions are immutable; tags such as latest point at them.
-      </p>
+      <Toolbar
+        composing={composing}
+        uploading={uploading}
+        inCart={cart.items.length}
+        onCompose={() => setComposing(!composing)}
+        onUpload={() => setUploading(!uploading)}
+      />
       {uploading && (
         <UploadForm
           scopes={scopes}

@@ -11,6 +11,7 @@ import {
   getVersion,
   shortDigest,
   type ArchiveFormat,
+  type AssetDetails as AssetDetailsAnswer,
   type VersionSummary,
 } from "../../api/library";
 import { useApi } from "../../hooks/useApi";
@@ -101,6 +102,77 @@ function VersionRow({ v, open, onToggle, onDownload, onDelete, onUntag }: {
   );
 }
 
+/** What the asset says of itself: its reference, author, licence and keywords. */
+function AssetMeta({ a }: { a: AssetDetailsAnswer }) {
+  return (
+    <dl className="props">
+      <dt>Reference</dt>
+      <dd className="mono">lib:{a.ref}@latest</dd>
+      {a.author && (
+        <>
+          <dt>Author</dt>
+          <dd>{a.author}</dd>
+        </>
+      )}
+      {a.licence && (
+        <>
+          <dt>Licence</dt>
+          <dd>{a.licence}</dd>
+        </>
+      )}
+      {a.keywords.length > 0 && (
+        <>
+          <dt>Keywords</dt>
+          <dd>{a.keywords.map((k) => <span key={k} className="chip">{k}</span>)}</dd>
+        </>
+      )}
+    </dl>
+  );
+}
+
+interface VersionsProps {
+  versions: VersionSummary[];
+  open: string | null;
+  onToggle: (digest: string) => void;
+  onDownload: (digest: string, format: ArchiveFormat) => void;
+  onDelete: (v: VersionSummary) => void;
+  onUntag: (tag: string) => void;
+}
+
+function VersionsTable({ versions, open, onToggle, onDownload, onDelete, onUntag }: VersionsProps) {
+  return (
+    <div className="table-scroll">
+      <table className="table" aria-label="Versions">
+        <thead>
+          <tr>
+            <th>Version</th>
+            <th>Tags</th>
+            <th className="num">Size</th>
+            <th>Pushed</th>
+            <th>By</th>
+            <th>
+              <span className="visually-hidden">Actions</span>
+            </th>
+          </tr>
+        </thead>
+        <tbody>
+          {versions.map((v) => (
+            <VersionRow
+              key={v.digest}
+              v={v}
+              open={open === v.digest}
+              onToggle={() => onToggle(v.digest)}
+              onDownload={(format) => onDownload(v.digest, format)}
+              onDelete={() => onDelete(v)}
+              onUntag={onUntag}
+            />
+          ))}
+        </tbody>
+      </table>
+    </div>
+  );
+}
+
 export function AssetDetails({ scope, kind, name, onChanged, onDeleted }: Props) {
   const asset = useApi((signal) => getAsset(scope, kind, name, signal), [scope, kind, name]);
   const [open, setOpen] = useState<string | null>(null);
@@ -141,64 +213,22 @@ export function AssetDetails({ scope, kind, name, onChanged, onDeleted }: Props)
         </button>
       </div>
       {a.description && <p>{a.description}</p>}
-      <dl className="props">
-        <dt>Reference</dt>
-        <dd className="mono">lib:{a.ref}@latest</dd>
-        {a.author && (
-          <>
-            <dt>Author</dt>
-            <dd>{a.author}</dd>
-          </>
-        )}
-        {a.licence && (
-          <>
-            <dt>Licence</dt>
-            <dd>{a.licence}</dd>
-          </>
-        )}
-        {a.keywords.length > 0 && (
-          <>
-            <dt>Keywords</dt>
-            <dd>{a.keywords.map((k) => <span key={k} className="chip">{k}</span>)}</dd>
-          </>
-        )}
-      </dl>
+      <AssetMeta a={a} />
       {error && <ErrorMessage error={error} />}
-      <div className="table-scroll">
-        <table className="table" aria-label="Versions">
-          <thead>
-            <tr>
-              <th>Version</th>
-              <th>Tags</th>
-              <th className="num">Size</th>
-              <th>Pushed</th>
-              <th>By</th>
-              <th>
-                <span className="visually-hidden">Actions</span>
-              </th>
-            </tr>
-          </thead>
-          <tbody>
-            {a.versions.map((v) => (
-              <VersionRow
-                key={v.digest}
-                v={v}
-                open={open === v.digest}
-                onToggle={() => setOpen(open === v.digest ? null : v.digest)}
-                onDownload={(format) => void attempt(() => downloadArchive(scope, kind, name, v.digest, format))}
-                onDelete={() => remove(v)}
-                onUntag={(tag) =>
-                  void attempt(async () => {
-                    await deleteTag(scope, kind, name, tag);
-                    asset.reload();
-                    onChanged();
-                  })
-                }
-              />
-            ))}
-          </tbody>
-        </table>
-      </div>
+      <VersionsTable
+        versions={a.versions}
+        open={open}
+        onToggle={(digest) => setOpen(open === digest ? null : digest)}
+        onDownload={(digest, format) => void attempt(() => downloadArchive(scope, kind, name, digest, format))}
+        onDelete={remove}
+        onUntag={(tag) =>
+          void attempt(async () => {
+            await deleteTag(scope, kind, name, tag);
+            asset.reload();
+            onChanged();
+          })
+        }
+      />
       {open && <Files scope={scope} kind={kind} name={name} digest={open} />}
       {a.versions.length > 0 && (
         <TagForm
