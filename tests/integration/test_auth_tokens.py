@@ -106,6 +106,12 @@ def _fill(path: str, world: World, slug: str) -> str:
         "command_id": "some-command",
         "name": "some-name",
         "run_id": "1",
+        "scope": "common",
+        "kind": "models",
+        "ref": "latest",
+        "tag": "t1",
+        "path": "x.txt",
+        "user": world.username,
     }
 
     def sub(m: re.Match[str]) -> str:

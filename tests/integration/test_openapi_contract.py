@@ -125,6 +125,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _library(walk)
     _deployments(walk)
     _runs(walk)
+    _workspaces(walk)
     _removals(walk)
     answered = {(m, p) for m, p, status in walk.contract.seen if 200 <= status < 300}
     assert walk.contract.operations() - answered == set()
@@ -348,6 +349,15 @@ def _runs(w: Walk) -> None:
     w.ok(w.admin.get(f"/api/v1/runs/{run['id']}/log"))
     w.ok(w.admin.post(f"/api/v1/runs/{run['id']}/cancel"))
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/terminate", json={"purge": True}))
+
+
+def _workspaces(w: Walk) -> None:
+    """One real JupyterLab: started, shown, listed, stopped (a stopped one stops again)."""
+    me = w.ok(w.admin.post("/api/v1/workspaces/me"))
+    w.ok(w.admin.get("/api/v1/workspaces/me"))
+    w.ok(w.admin.get("/api/v1/workspaces"))
+    w.ok(w.admin.delete("/api/v1/workspaces/me"), 204)
+    w.ok(w.admin.delete(f"/api/v1/workspaces/{me['user']}"), 204)
 
 
 def _removals(w: Walk) -> None:
