@@ -106,12 +106,13 @@ export async function readLog(id: number, offset = 0, signal?: AbortSignal): Pro
   return { text: await response.text(), state: response.headers.get("x-run-state") };
 }
 
-/** The WebSocket URL of a run's live log. A browser cannot set headers on a WebSocket, so the
+/** The WebSocket URL of a run's live log from byte `offset`. A browser cannot set headers on a WebSocket, so the
  * token goes in the first message (`authMessage`), as the live view's socket sends it: never
  * in the URL, where proxies log it. */
-export function logSocketUrl(id: number, location: Location = window.location): string {
+export function logSocketUrl(id: number, offset = 0, location: Location = window.location): string {
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
-  return `${scheme}//${location.host}/api/v1/runs/${id}/log/ws`;
+  const from = offset > 0 ? `?offset=${offset}` : "";
+  return `${scheme}//${location.host}/api/v1/runs/${id}/log/ws${from}`;
 }
 
 export function authMessage(): string {

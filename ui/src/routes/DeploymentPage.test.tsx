@@ -5,8 +5,12 @@ import { MemoryRouter, Route, Routes, useLocation } from "react-router-dom";
 import { setToken } from "../api/client";
 import { jsonResponse, mockFetch, problem } from "../test/fetch";
 import { DeploymentPage, transitionsOf } from "./DeploymentPage";
+import { RECONNECT_MS } from "../components/deployments/RunLog";
 
-afterEach(() => vi.unstubAllGlobals());
+afterEach(() => {
+  vi.unstubAllGlobals();
+  vi.restoreAllMocks();
+});
 
 /** A WebSocket the test speaks for: what the page sent, and frames pushed to it. */
 class FakeSocket {
@@ -37,8 +41,8 @@ class FakeSocket {
   pushText(data: string) {
     act(() => this.onmessage?.({ data }));
   }
-  end() {
-    act(() => this.onclose?.({ code: 1000, reason: "" }));
+  end(code = 1000, reason = "") {
+    act(() => this.onclose?.({ code, reason }));
   }
 }
 
@@ -114,6 +118,34 @@ describe("DeploymentPage", () => {
     socket.end();
     // Once the socket is done, the stored log is the text shown: all of it.
     await vi.waitFor(() => expect(log.textContent).toBe("started\nstep 1: 2.5 m³\nstep 2\n"));
+  });
+
+  it("follows again from the byte it had reached when the socket drops while the run goes on", async () => {
+    setup();
+    await vi.waitFor(() => expect(FakeSocket.all).toHaveLength(1));
+    const first = FakeSocket.all[0]!;
+    first.open();
+    first.push(new TextEncoder().encode("started\n"));
+    first.end(1006);
+    await vi.waitFor(() => expect(FakeSocket.all).toHaveLength(2), { timeout: 5000 });
+    const second = FakeSocket.all[1]!;
+    expect(second.url).toBe("ws://localhost:3000/api/v1/runs/2/log/ws?offset=8");
+    second.open();
+    expect(second.sent).toEqual([JSON.stringify({ op: "auth", token: "tl_x" })]);
+    second.push(new TextEncoder().encode("step 1\n"));
+    expect(screen.getByTestId("run-log").textContent).toBe("started\nstep 1\n");
+  });
+
+  it("does not follow again a log the server refused, and says why", async () => {
+    const timers = vi.spyOn(globalThis, "setTimeout");
+    setup();
+    await vi.waitFor(() => expect(FakeSocket.all).toHaveLength(1));
+    FakeSocket.all[0]!.end(4401, "the token is not valid");
+    expect(await screen.findByRole("alert")).toHaveTextContent("The live log ended: the token is not valid");
+    // No second try is even planned (a dropped socket plans one RECONNECT_MS later).
+    expect(timers.mock.calls.some(([, ms]) => ms === RECONNECT_MS)).toBe(false);
+    FakeSocket.all[0]!.end(1006);
+    expect(timers.mock.calls.some(([, ms]) => ms === RECONNECT_MS)).toBe(true);
   });
 
   it("reads a finished run's whole log when it is opened", async () => {
