@@ -13,9 +13,10 @@ import httpx
 from tests.conftest import Server
 from tests.integration._util import poll_until, unique
 
-# Scripts wait for a file `go` in their working dir: a test says when they may go on, so
-# nothing is timed. They lack the executable bit, as DTaaS scripts often do (run with sh).
-WAIT_FOR_GO = "while [ ! -e go ]; do sleep 0.05; done\n"
+# Scripts wait for a file `go-<run id>` in their working folder (the deployment's, shared by
+# its runs): a test says when each may go on, so nothing is timed. They lack the executable
+# bit, as DTaaS scripts often do (run with sh).
+WAIT_FOR_GO = 'while [ ! -e "go-$TWINLINK_RUN_ID" ]; do sleep 0.05; done\n'
 
 
 def tar_of(files: dict[str, str]) -> bytes:
@@ -89,13 +90,22 @@ def log_of(c: httpx.Client, run_id: int, offset: int = 0) -> str:
 
 
 def work_dir(server: Server, run_id: int) -> Path:
-    return Path(server.data_dir) / "runs" / str(run_id) / "work"
+    """The working folder of the run's deployment (its runs share it)."""
+    with server.admin as c:
+        name = run_of(c, run_id)["deployment"]
+        r = c.get(f"/api/v1/deployments/{name}")
+        assert r.status_code == 200, r.text
+    return folder_of(server, r.json()["id"])
+
+
+def folder_of(server: Server, deployment_id: int) -> Path:
+    return Path(server.data_dir) / "deployments" / str(deployment_id) / "work"
 
 
 def release(server: Server, run_id: int) -> None:
     """Let a run waiting in WAIT_FOR_GO go on (once it is running)."""
     wait_state(server, run_id, "running")
-    (work_dir(server, run_id) / "go").touch()
+    (work_dir(server, run_id) / f"go-{run_id}").touch()
 
 
 def wait_log(server: Server, run_id: int, text: str) -> str:

@@ -69,7 +69,8 @@ def test_a_runs_log_streams_live_and_is_kept_after_the_socket_closes(server: Ser
         ended = run_of(c, run["id"])
     assert ended["error"] == "exited with code 3" and ended["started_by"] == "admin"
     assert ended["created_ns"] <= ended["started_ns"] <= ended["ended_ns"]
-    assert not work_dir(server, run["id"]).exists()  # the working dir goes, the log stays
+    # The working folder is the deployment's: it stays after the run, as the log does.
+    assert (work_dir(server, run["id"]) / f"go-{run['id']}").is_file()
 
 
 def test_every_run_is_kept_and_concurrent_runs_of_a_phase_are_told_apart(server: Server) -> None:
@@ -293,4 +294,8 @@ def test_a_script_that_changes_its_files_changes_copies_not_the_library(server: 
         assert r.status_code == 200 and "changed" not in r.text  # the library's file as pushed
         second = start_run(c, name, "evolve")
         wait_state(server, second["id"], "succeeded")
-        assert log_of(c, second["id"]).count("# changed by the run") == 1  # a fresh copy
+        # The deployment's folder is kept across its runs: the second sees the first's change
+        # in its copy, and the library's file is still as pushed.
+        assert log_of(c, second["id"]).count("# changed by the run") == 2
+        r = c.get(f"/api/v1/library/me/twins/{name}/versions/latest/files/twin.yaml")
+        assert r.status_code == 200 and "changed" not in r.text

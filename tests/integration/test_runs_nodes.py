@@ -30,7 +30,7 @@ SCRIPT = 'sleep 600 &\necho "child $!"\nwhile [ ! -e go ]; do sleep 0.05; done\n
 
 def _target(tags: list[str], owner_id: int) -> RunTarget:
     async def prepare(work: Path) -> None:
-        (work / "lifecycle").mkdir()
+        (work / "lifecycle").mkdir(parents=True, exist_ok=True)
         (work / "lifecycle" / "analyze").write_text(SCRIPT)
 
     return RunTarget(
@@ -41,7 +41,8 @@ def _target(tags: list[str], owner_id: int) -> RunTarget:
 
 def _node(stores: Stores, root: Path, name: str, tags: frozenset[str]) -> RunService:
     settings = RunSettings(root / name, "http://127.0.0.1:1", name, tags, "admins",
-                           Limits(60, 0), shared=True)  # fmt: skip
+                           Limits(60, 0), shared=True,
+                           folders=root / f"{name}-deployments")  # fmt: skip
     return RunService(stores.metadata, AuthService(stores.metadata, 3600), settings)
 
 
@@ -102,7 +103,7 @@ async def test_a_tagged_run_is_claimed_and_run_by_the_node_with_the_tags(
     await _until(running, "the gpu node to claim and start the run")
     assert (await plain.get(run.id)).node == "node-b"
     assert _log(plain, run.id) == ""  # node-a never ran it
-    (gpu.settings.root / str(run.id) / "work" / "go").touch()
+    (gpu.settings.folder(1) / "go").touch()  # the deployment's folder on the node of its run
 
     async def ended() -> bool:
         return (await gpu.get(run.id)).state == "succeeded"

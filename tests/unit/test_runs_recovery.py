@@ -8,15 +8,15 @@ import os
 import socket
 import subprocess
 
-from twinlink.deploy.runs import _node_gone
+from twinlink.deploy.recovery import node_gone
 
 
 def test_only_a_dead_node_of_this_host_is_gone() -> None:
     host = socket.gethostname()
     dead = subprocess.Popen(["true"])
     dead.wait()
-    assert _node_gone(f"{host}:{dead.pid}:abcd1234")
-    assert not _node_gone(f"{host}:{os.getpid()}:abcd1234")  # this very process
-    assert not _node_gone(f"other-{host}:{dead.pid}:abcd1234")
-    assert not _node_gone(f"{host}:not-a-pid:abcd1234")
-    assert not _node_gone("node-a")
+    assert node_gone(f"{host}:{dead.pid}:abcd1234")
+    assert not node_gone(f"{host}:{os.getpid()}:abcd1234")  # this very process
+    assert not node_gone(f"other-{host}:{dead.pid}:abcd1234")
+    assert not node_gone(f"{host}:not-a-pid:abcd1234")
+    assert not node_gone("node-a")

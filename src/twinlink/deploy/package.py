@@ -31,8 +31,12 @@ REFUSED = "The twin package's twin.yaml has problems; nothing was deployed."
 
 @dataclass(frozen=True, slots=True)
 class PhaseLimits:
-    timeout_s: int = 600  # 0: runs until the deployment is stopped
-    memory_mb: int = 1024
+    """A phase's limits as twin.yaml gives them. None: not given there, so the package's
+    `default`, then the server's settings (run_default_timeout_s, run_default_memory_mb)
+    decide (deploy/runs.py's RunTarget.limits)."""
+
+    timeout_s: int | None = None  # 0: runs until the deployment is stopped
+    memory_mb: int | None = None
 
 
 @dataclass(slots=True)
@@ -52,8 +56,14 @@ class Package:
     runner_tags: list[str] = field(default_factory=list)
 
     def limits(self, phase: str) -> PhaseLimits:
-        """The limits of a lifecycle phase: its own, else the package's `default`."""
-        return self.lifecycle.get(phase) or self.lifecycle.get("default") or PhaseLimits()
+        """The limits the package gives a lifecycle phase: each its own, else the package's
+        `default`; None where neither gives it (the server's setting then)."""
+        given = self.lifecycle.get(phase, PhaseLimits())
+        default = self.lifecycle.get("default", PhaseLimits())
+        return PhaseLimits(
+            default.timeout_s if given.timeout_s is None else given.timeout_s,
+            default.memory_mb if given.memory_mb is None else given.memory_mb,
+        )
 
 
 def parse_package(text: str) -> Package:
@@ -178,10 +188,11 @@ def _lifecycle(
         if not isinstance(limits, dict) or set(limits) - {"timeout_s", "memory_mb"}:
             problems.append(src.problem("a phase has timeout_s and memory_mb", path))
             continue
-        base = PhaseLimits()
-        timeout = limits.get("timeout_s", base.timeout_s)
-        memory = limits.get("memory_mb", base.memory_mb)
-        if not _whole(timeout, 0) or not _whole(memory, 1):
+        timeout = limits.get("timeout_s")
+        memory = limits.get("memory_mb")
+        if (timeout is not None and not _whole(timeout, 0)) or (
+            memory is not None and not _whole(memory, 1)
+        ):
             problems.append(src.problem("timeout_s is a whole number of seconds (0: none), "
                                         "memory_mb a whole number of MiB", path))  # fmt: skip
             continue

@@ -1,7 +1,8 @@
 """A deployment's lifecycle phases, as runs of the runs' service (runs.py): started when the
-package has their script, refused up front to who may not run scripts, and a terminated
-deployment's `terminate` then `clean` run one after another in the background (the request
-that terminates does not wait for scripts that may run for minutes)."""
+package has their script, refused up front to who may not run scripts, and the steps of a
+terminate (its `terminate` script, the resources removed, `clean`, the working folder removed)
+taken one after another in the background (the request that terminates does not wait for
+scripts that may run for minutes)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,12 @@ from twinlink.domain.deployments import DeploymentRecord
 from twinlink.domain.errors import TwinlinkError
 
 log = logging.getLogger("twinlink.deploy")
-POLL_S = 0.5  # how often a run that the next phase waits for is looked at
+# How long past its own timeout a run the next step waits for may take to end (the grace a
+# stop gives it, its folder's preparing); a run without a timeout is waited for as long as
+# it runs.
+WAIT_MARGIN_S = 60.0
+# A step of a chain: a phase's run (its name), or something the platform does.
+Step = str | Callable[[], Awaitable[None]]
 
 
 class PhaseRuns(Protocol):
@@ -29,6 +35,8 @@ class PhaseRuns(Protocol):
     async def start(self, principal: Principal, target: RunTarget, phase: str) -> Any: ...
     async def cancel_phase(self, deployment_id: int, phase: str) -> Any: ...
     async def get(self, run_id: int) -> Any: ...
+    async def wait(self, run_id: int, timeout_s: float | None = None) -> Any: ...
+    async def remove_folder(self, deployment_id: int) -> None: ...
 
 
 class Phases:
@@ -78,12 +86,13 @@ class Phases:
         self,
         principal: Principal,
         target: RunTarget,
-        phases: list[str],
+        steps: list[Step],
         then: Callable[[], Awaitable[None]],
     ) -> None:
-        """Run `phases` in order in the background, each once the one before has ended
-        (however it ended), then call `then` (whatever happened)."""
-        task = asyncio.create_task(self._chain(principal, target, phases, then))
+        """Take `steps` in order in the background, each once the one before has ended
+        (however it ended: a failed script does not stop the steps after it), then call
+        `then` (whatever happened)."""
+        task = asyncio.create_task(self._chain(principal, target, steps, then))
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
 
@@ -91,20 +100,31 @@ class Phases:
         self,
         principal: Principal,
         target: RunTarget,
-        phases: list[str],
+        steps: list[Step],
         then: Callable[[], Awaitable[None]],
     ) -> None:
         try:
-            for phase in phases:
-                assert self.runs is not None
-                run = await self.runs.start(principal, target, phase)
-                while not (await self.runs.get(run.id)).ended:
-                    await asyncio.sleep(POLL_S)
-        except TwinlinkError as err:
-            log.warning("deployment %s: the %s phases stopped: %s", target.deployment,
-                        ", ".join(phases), err, extra={"event": "phases_failed"})  # fmt: skip
+            for step in steps:
+                try:
+                    await (self._run(principal, target, step) if isinstance(step, str) else step())
+                except (TwinlinkError, TimeoutError) as err:
+                    name = step if isinstance(step, str) else getattr(step, "__name__", "a step")
+                    log.warning("deployment %s: %s did not end well: %s", target.deployment,
+                                name, err or "it did not end in time",
+                                extra={"event": "phases_failed"})  # fmt: skip
         finally:
             await then()
+
+    async def _run(self, principal: Principal, target: RunTarget, phase: str) -> None:
+        """Run `phase` and wait until it has ended (its own timeout and a margin at most)."""
+        assert self.runs is not None
+        run = await self.runs.start(principal, target, phase)
+        timeout = run.timeout_s + WAIT_MARGIN_S if run.timeout_s else None
+        await self.runs.wait(run.id, timeout)
+
+    async def remove_folder(self, deployment_id: int) -> None:
+        if self.runs is not None:
+            await self.runs.remove_folder(deployment_id)
 
     async def close(self) -> None:
         """Stop waiting (the runs themselves are the runs service's to stop)."""

@@ -17,10 +17,6 @@ def log_path(root: Path, run_id: int) -> Path:
     return root / f"{run_id}.log"
 
 
-def work_dir(root: Path, run_id: int) -> Path:
-    return root / str(run_id) / "work"
-
-
 def _read(path: Path, offset: int, size: int) -> bytes:
     try:
         with path.open("rb") as file:

@@ -1,10 +1,12 @@
 """Lifecycle runs: each phase of a deployment run as a supervised process (docs/runs.md).
 
 A run is stored `queued` before anything starts, with a server-assigned id; a run of this
-node then gets a fresh working dir filled by its target's `prepare`, a token scoped to the
-deployment's twin, and its process (runner.py). It ends `succeeded`, `failed` or `cancelled`,
-and its token is revoked, whatever happened. A run whose runner tags this node lacks waits
-`queued` for a node that has them, which claims it (its target rebuilt by `target_loader`).
+node then runs in its deployment's working folder (workdir.py: one kept across the
+deployment's runs, brought to its package version by the target's `prepare`), with a token
+scoped to the deployment's twin and its process (runner.py). It ends `succeeded`, `failed` or
+`cancelled`, and its token is revoked, whatever happened. A run whose runner tags this node
+lacks waits `queued` for a node that has them, which claims it (its target rebuilt by
+`target_loader`).
 """
 
 from __future__ import annotations
@@ -12,10 +14,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import os
-import shutil
-import signal
-import socket
 import time
 from collections.abc import AsyncIterator, Awaitable, Callable, Mapping
 from dataclasses import dataclass, field
@@ -25,9 +23,10 @@ from typing import Any, Literal, Protocol
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthService
 from twinlink.config import Settings
-from twinlink.deploy import runlog
+from twinlink.deploy import runlog, workdir
+from twinlink.deploy.recovery import kill_leftover, node_gone
 from twinlink.deploy.runenv import run_environment
-from twinlink.deploy.runner import Limits, Outcome, own_files, run_script
+from twinlink.deploy.runner import Limits, Outcome, run_script
 from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.domain.runs import PHASE_PATTERN, TWIN_SCOPE, RunRecord
 from twinlink.store.runs import RunStore
@@ -54,7 +53,8 @@ class RunTarget:
     deployment: str  # its name
     twin: str  # its twin's slug
     owner_id: int | None  # the user the run's token is for (the deployment's owner)
-    prepare: Prepare  # fills the working dir: the package's files and assets/<alias>/
+    # brings the deployment's working folder to its package version (workdir.prepare)
+    prepare: Prepare
     params: dict[str, Any] = field(default_factory=dict)
     device_tokens: dict[str, str] = field(default_factory=dict)  # device name -> token
     # twin.yaml's `lifecycle:` block: phase (or "default") -> its settings
@@ -76,36 +76,6 @@ def _first(*values: int | None) -> int:
     return next(v for v in values if v is not None)
 
 
-def _kill_leftover(run: RunRecord, work: Path) -> None:
-    """A run's process group that outlived its server (killed with SIGKILL, it could not
-    stop it): killed, if its leader is still that run's (a session leader working in the
-    run's dir: a pid used again by another process is left alone)."""
-    if run.pid is None:
-        return
-    with contextlib.suppress(OSError):
-        if (
-            os.getpgid(run.pid) == run.pid
-            and Path(f"/proc/{run.pid}/cwd").resolve() == work.resolve()
-        ):
-            os.killpg(run.pid, signal.SIGKILL)
-
-
-def _node_gone(node: str) -> bool:
-    """Whether `node` (store/leases.py's `host:pid:random`) was a server of this host whose
-    process has ended."""
-    host, _, rest = node.partition(":")
-    pid = rest.partition(":")[0]
-    if host != socket.gethostname() or not pid.isdigit():
-        return False
-    try:
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return True
-    except PermissionError:  # alive, another user's
-        return False
-    return False
-
-
 TargetLoader = Callable[[RunRecord], Awaitable[RunTarget]]
 
 
@@ -120,7 +90,7 @@ class Deployments(Protocol):
 
 @dataclass(frozen=True, slots=True)
 class RunSettings:
-    root: Path  # data_dir/runs: logs and working dirs
+    root: Path  # data_dir/runs: the runs' logs
     url: str  # the server's URL, as runs reach it
     node: str  # this node, in the runs it runs
     tags: frozenset[str] = frozenset()  # this node's runner tags
@@ -129,6 +99,11 @@ class RunSettings:
     # Several nodes share the store: at start, only the unfinished runs of this host's
     # nodes that are gone are this node's to fail (not every unfinished run is).
     shared: bool = False
+    # The deployments' working folders (workdir.py); None: `deployments` beside `root`.
+    folders: Path | None = None
+
+    def folder(self, deployment_id: int) -> Path:
+        return workdir.folder(self.folders or self.root.parent / "deployments", deployment_id)
 
 
 class RunService:
@@ -140,7 +115,8 @@ class RunService:
         tags = frozenset(t.strip() for t in settings.runner_tags.split(",") if t.strip())
         defaults = Limits(settings.run_default_timeout_s, settings.run_default_memory_mb)
         config = RunSettings(settings.data_dir / "runs", settings.base_url, node, tags,
-                             settings.script_runners, defaults, shared)  # fmt: skip
+                             settings.script_runners, defaults, shared,
+                             settings.data_dir / "deployments")  # fmt: skip
         return cls(store, auth, config)
 
     def __init__(self, store: RunStore, auth: AuthService, settings: RunSettings) -> None:
@@ -150,6 +126,8 @@ class RunService:
         # Set by the deployments' service: rebuilds the target of a run another node queued.
         self.target_loader: TargetLoader | None = None
         self._tasks: dict[int, asyncio.Task[None]] = {}  # the runs this node runs
+        # One prepare of a deployment's folder at a time (its runs share it).
+        self._folder_locks: dict[int, asyncio.Lock] = {}
         self._poller: asyncio.Task[None] | None = None
 
     def serve(self, deployments: Deployments | None) -> RunService:
@@ -165,9 +143,7 @@ class RunService:
         self.settings.root.mkdir(parents=True, exist_ok=True)
         failed = await self._fail_interrupted()
         for run in failed:
-            await asyncio.to_thread(
-                _kill_leftover, run, runlog.work_dir(self.settings.root, run.id)
-            )
+            await asyncio.to_thread(kill_leftover, run, self.settings.folder(run.deployment_id))
             if run.token_id is not None:
                 await self.auth.revoke_run_token(run.token_id)
             await asyncio.to_thread(self._note, run.id, f"failed: {INTERRUPTED}")
@@ -184,7 +160,7 @@ class RunService:
         if not self.settings.shared:
             return await self.store.fail_interrupted_runs(None, INTERRUPTED, now)
         active = await self.store.list_runs(states=("queued", "running"), limit=10_000)
-        gone = [run for run in active if run.node is not None and _node_gone(run.node)]
+        gone = [run for run in active if run.node is not None and node_gone(run.node)]
         return [run for run in gone if await self.store.end_run(run.id, "failed", None,
                                                                  INTERRUPTED, now)]  # fmt: skip
 
@@ -275,6 +251,33 @@ class RunService:
             # stops the run at its next round (_stop_cancelled), or never starts it
             await self.store.end_run(run.id, "cancelled", None, "cancelled", time.time_ns())
 
+    async def wait(self, run_id: int, timeout_s: float | None = None) -> RunRecord:
+        """The run once it has ended: a run of this node is awaited (its task ends with it),
+        another node's looked at every CLAIM_POLL_S. TimeoutError after `timeout_s` (None:
+        no bound)."""
+
+        async def ended() -> RunRecord:
+            task = self._tasks.get(run_id)
+            if task is not None:
+                await asyncio.wait({task})  # never cancels the run itself
+            while not (run := await self.get(run_id)).ended:
+                await asyncio.sleep(CLAIM_POLL_S)
+                if (task := self._tasks.get(run_id)) is not None:  # claimed here meanwhile
+                    await asyncio.wait({task})
+            return run
+
+        return await asyncio.wait_for(ended(), timeout_s)
+
+    async def remove_folder(self, deployment_id: int) -> None:
+        """Remove the deployment's working folder on this node (a terminated deployment's,
+        once its `clean` has run)."""
+        lock = self._folder_locks.setdefault(deployment_id, asyncio.Lock())
+        async with lock:
+            await asyncio.to_thread(
+                workdir.remove, self.settings.folder(deployment_id).parent.parent, deployment_id
+            )
+        self._folder_locks.pop(deployment_id, None)
+
     # -- reading runs -----------------------------------------------------------------------
 
     async def get(self, run_id: int) -> RunRecord:
@@ -312,13 +315,12 @@ class RunService:
         task.add_done_callback(lambda _: self._tasks.pop(run.id, None))
 
     async def _run(self, run: RunRecord, target: RunTarget) -> None:
-        work = runlog.work_dir(self.settings.root, run.id)
+        work = self.settings.folder(run.deployment_id)
         token_id: int | None = None
         outcome = Outcome("failed", None, "the run did not start")
         try:
-            await asyncio.to_thread(work.mkdir, parents=True)
-            await target.prepare(work)
-            await asyncio.to_thread(own_files, work)  # never the library's blobs themselves
+            async with self._folder_locks.setdefault(run.deployment_id, asyncio.Lock()):
+                await target.prepare(work)
             script = work / "lifecycle" / run.phase
             if not script.is_file():
                 outcome = Outcome("failed", None, f"the package has no lifecycle/{run.phase}")
@@ -352,16 +354,14 @@ class RunService:
             log.exception("run failed", extra={"event": "run_failed", "run": run.id})
             outcome = Outcome("failed", None, f"the run could not be prepared: {err}")
         finally:
-            await asyncio.shield(self._finish(run, outcome, token_id, work))
+            await asyncio.shield(self._finish(run, outcome, token_id))
 
-    async def _finish(
-        self, run: RunRecord, outcome: Outcome, token_id: int | None, work: Path
-    ) -> None:
-        """Whatever happened: the token revoked, the working dir removed, the end noted in
-        the log, then in the record (a follower that sees the end has the whole log)."""
+    async def _finish(self, run: RunRecord, outcome: Outcome, token_id: int | None) -> None:
+        """Whatever happened: the token revoked, the end noted in the log, then in the
+        record (a follower that sees the end has the whole log). The working folder is the
+        deployment's, and stays."""
         if token_id is not None:
             await self.auth.revoke_run_token(token_id)
-        await asyncio.to_thread(shutil.rmtree, work.parent, True)
         text = outcome.state + (f": {outcome.error}" if outcome.error else "")
         await asyncio.to_thread(self._note, run.id, text)
         await self.store.end_run(

@@ -14,6 +14,7 @@ from typing import Any
 
 from twinlink.auth.rights import Principal
 from twinlink.auth.vault import Vault
+from twinlink.deploy import ending
 from twinlink.deploy import secrets as sealing
 from twinlink.deploy.access import check_may_change, may_see, signed_in
 from twinlink.deploy.apply import Parts
@@ -65,7 +66,7 @@ class DeploymentService:
         self.phases = Phases(library)
         self.phases.runs = runs
         # One change of deployments at a time: a plan is applied against what it read.
-        self._lock = asyncio.Lock()
+        self.lock = asyncio.Lock()
         # On a store other nodes share, one of them may be applying right now: only a create
         # that has not moved for this long was cut off (each step is saved as it is made).
         self.stale_after_ns = STALE_AFTER_NS if shared_store else 0
@@ -146,7 +147,7 @@ class DeploymentService:
         loaded = await self._load(principal, package_ref(package, scope), parameters, name)
         if not planned:
             self.phases.check(principal, user.id, loaded, "create", *(["execute"] * start))
-        async with self._lock:
+        async with self.lock:
             await self._name_free(name)
             now = time.time_ns()
             shown_params, secret = sealing.split(loaded.parameters, loaded.secret_names)
@@ -186,10 +187,10 @@ class DeploymentService:
             principal, record.package, sealing.parameters_of(self.vault, record), name
         )
         self.phases.check(principal, record.created_by, loaded, "create")
-        async with self._lock:
+        async with self.lock:
             await self._name_free(name, twin_only=True)
             record.state = "applying"
-            await self._save(record)
+            await self.save(record)
             tokens = await self._apply_create(principal, record, loaded, start=False)
         return Created(record, plan_create(loaded.resources, loaded.hidden), tokens)
 
@@ -221,13 +222,13 @@ class DeploymentService:
                 if token is not None:
                     tokens[resource.name] = token
                     record.secrets = sealing.with_tokens(self.vault, record, tokens)
-                await self._save(record)
+                await self.save(record)
         except BaseException as err:
             await self._fail(record, f"making {step} failed: {err}; what was made before it "
                              "was removed")  # fmt: skip
             raise
         record.state = "running" if start else "created"
-        await self._save(record)
+        await self.save(record)
         await self.phases.start(principal, record, loaded, "create", tokens)
         if start:
             await self.phases.start(principal, record, loaded, "execute", tokens)
@@ -235,18 +236,18 @@ class DeploymentService:
 
     async def _fail(self, record: DeploymentRecord, error: str) -> None:
         async def saved() -> None:
-            await self._save(record)
+            await self.save(record)
 
         await self.parts.undo(SYSTEM, record.twin, record.journal, saved)
         record.state, record.error, record.secrets = "failed", error, None
-        await self._save(record)
-        await self._release(record)
+        await self.save(record)
+        await self.release(record)
 
-    async def _release(self, record: DeploymentRecord) -> None:
+    async def release(self, record: DeploymentRecord) -> None:
         if self.library is not None:
             await self.library.release(holder(record))
 
-    async def _save(self, record: DeploymentRecord) -> None:
+    async def save(self, record: DeploymentRecord) -> None:
         record.updated_ns = time.time_ns()
         await self.store.save_deployment(record)
 
@@ -282,12 +283,12 @@ class DeploymentService:
             return record
         if record.state not in ("created", "stopped"):
             raise ConflictError(f"deployment {name!r} is {record.state}; create it first")
-        loaded = await self._pinned(record)
+        loaded = await self.pinned(record)
         self.phases.check(principal, record.created_by, loaded, "execute")
-        async with self._lock:
+        async with self.lock:
             await self.parts.set_running(principal, record.twin, record.journal, True)
             record.state = "running"
-            await self._save(record)
+            await self.save(record)
         await self.phases.start(principal, record, loaded, "execute", self.device_tokens(record))
         return record
 
@@ -298,35 +299,19 @@ class DeploymentService:
             return record
         if record.state != "running":
             raise ConflictError(f"deployment {name!r} is {record.state}, not running")
-        async with self._lock:
+        async with self.lock:
             await self.phases.cancel(record.id, "execute")
             await self.parts.set_running(principal, record.twin, record.journal, False)
             record.state = "stopped"
-            await self._save(record)
+            await self.save(record)
         return record
 
     async def terminate(self, principal: Principal, name: str, purge: bool) -> DeploymentRecord:
-        """Remove what it made but the twin (its document and history stay) unless `purge`;
-        its device tokens go with its devices, its holds on library versions are released."""
-        record = await self._changeable(principal, name)
-        loaded = await self._pinned(record)
-        ending = [p for p in ("terminate", "clean") if loaded and loaded.has_phase(p)]
-        self.phases.check(principal, record.created_by, loaded, *ending)
-        async with self._lock:
-            await self.phases.cancel(record.id, "execute")
-            while record.journal and (purge or record.journal[-1]["type"] != "twin"):
-                entry = record.journal[-1]
-                await self.parts.remove(principal, record.twin, entry["type"], entry["name"])
-                record.journal.pop()
-                await self._save(record)
-            record.state, record.secrets = "terminated", None
-            await self._save(record)
-        if not self.phases.ready or loaded is None or not ending:
-            await self._release(record)
-        else:  # the versions stay held until the scripts have had their files
-            target = self.phases.target(record, loaded, {})
-            self.phases.in_turn(principal, target, ending, lambda: self._release(record))
-        return record
+        """End the deployment (ending.py): its `terminate` script, what it made removed (the
+        twin too when `purge`), `clean`, its working folder removed, its holds released; the
+        deployment `terminated` at once, the scripts in the background."""
+        return await ending.terminate(self, principal, await self._changeable(principal, name),
+                                      purge)  # fmt: skip
 
     async def reconfigure(
         self,
@@ -340,6 +325,8 @@ class DeploymentService:
         from what the deployment made to what it would make now, applied unless `dry_run`.
         Unchanged resources are not touched; a changed processor is updated in place."""
         record = await self._changeable(principal, name)
+        if not record.live:
+            raise ConflictError(f"deployment {name!r} is {record.state}: deploy it anew instead")
         if parameters is not None and not isinstance(parameters, dict):
             raise InvalidInputError("`parameters` is a JSON object of the parameters to change")
         sealed = sealing.unseal(self.vault, record)
@@ -358,12 +345,12 @@ class DeploymentService:
                 sealing.set_parameters(self.vault, record, loaded.parameters, loaded.secret_names)
                 record.package = loaded.pinned
                 record.package_ref = package or record.package_ref
-                await self._save(record)
+                await self.save(record)
             return Created(record, plan, {})
-        async with self._lock:
+        async with self.lock:
 
             async def saved() -> None:
-                await self._save(record)
+                await self.save(record)
 
             running = record.state == "running"
             try:
@@ -372,19 +359,19 @@ class DeploymentService:
                 )
             except TwinlinkError as err:
                 record.error = f"reconfiguring stopped part way (resources list what is): {err}"
-                await self._save(record)
+                await self.save(record)
                 raise
             record.error = None
             sealing.set_parameters(self.vault, record, loaded.parameters, loaded.secret_names)
             record.secrets = sealing.with_tokens(self.vault, record, tokens)
             record.package = loaded.pinned
             record.package_ref = package or record.package_ref
-            await self._save(record)
-            await self._release(record)
+            await self.save(record)
+            await self.release(record)
             await self._hold(record, loaded)
         return Created(record, plan, tokens)
 
-    async def _pinned(self, record: DeploymentRecord) -> Loaded | None:
+    async def pinned(self, record: DeploymentRecord) -> Loaded | None:
         """The deployment's package as it was deployed, for its lifecycle phases (read with
         the server's rights: the version is pinned and held for the deployment)."""
         if self.runs is None:
