@@ -68,10 +68,6 @@ async def _send(
             await asyncio.wait([worker])
 
 
-class _Abandoned(Exception):
-    """The reader stopped reading: the writer gives up."""
-
-
 class _Pipe:
     """Bytes written by one worker thread, read by the event loop, in chunks of about
     CHUNK bytes; the writer waits while DEPTH chunks are unread."""
@@ -90,8 +86,8 @@ class _Pipe:
             write()
             if self._buffer:
                 self._push(bytes(self._buffer))
-        except _Abandoned:
-            pass
+        except BrokenPipeError:
+            pass  # the reader went away (_push): nothing more to write
         finally:
             self._loop.call_soon_threadsafe(self._queue.put_nowait, None)
 
@@ -109,11 +105,12 @@ class _Pipe:
         """zipfile flushes its file; the pipe sends chunks when they are full."""
 
     def _push(self, chunk: bytes) -> None:
+        # A pipe whose reader is gone: the writer unwinds from inside tarfile or zipfile.
         while not self._room.acquire(timeout=0.1):
             if self._stopped.is_set():
-                raise _Abandoned
+                raise BrokenPipeError("the client stopped reading")
         if self._stopped.is_set():
-            raise _Abandoned
+            raise BrokenPipeError("the client stopped reading")
         self._loop.call_soon_threadsafe(self._queue.put_nowait, chunk)
 
     # -- the reader's side (the event loop)
