@@ -70,7 +70,7 @@ def test_a_dtaas_twin_imports_unchanged_and_its_phases_run(cli: Cli, tmp_path: P
     deployment = unique("msd")
     cli("deploy", "create", f"twins/{name}@1.0.0", "--name", deployment).ok()
     created = cli("deploy", "run", deployment, "create", "--follow").ok()  # not executable
-    assert "created in work" in created.out  # run in the run's working dir, runs/<id>/work
+    assert "created in work" in created.out  # the deployment's folder, deployments/<id>/work
     executed = cli("deploy", "run", deployment, "execute", "--follow").ok()
     assert "endTime 10.0" in executed.out and "config asset: same file" in executed.out
     cleaned = cli("deploy", "run", deployment, "clean", "--follow")
@@ -83,11 +83,12 @@ def test_the_shipped_example_imports_and_runs(cli: Cli, tmp_path: Path) -> None:
     cli("lib", "import-dtaas", str(EXAMPLES / "library" / "mass-spring-damper"),
         "--name", name).ok()  # fmt: skip
     cli("deploy", "create", f"twins/{name}", "--name", name).ok()
-    # Each phase on its own: every run starts from a fresh copy of the package (analyze, which
-    # reads what execute wrote, is left out).
-    for phase in ("create", "execute"):
+    # As in DTaaS, the phases share the twin's folder: analyze reads what execute wrote.
+    for phase in ("create", "execute", "analyze"):
         ran = cli("deploy", "run", name, phase, "--follow").ok()
         assert "succeeded (exit code 0)" in ran.err
+    assert "overshoot_percent" in ran.out
+    assert "simulating first" not in ran.out  # it found execute's output/results.csv
     cli("deploy", "terminate", name, "--purge").ok()
 
 

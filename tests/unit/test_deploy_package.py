@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
-from twinlink.deploy.package import checked_parameters, parse_package
+from twinlink.deploy.package import PhaseLimits, checked_parameters, parse_package
+from twinlink.deploy.runner import Limits
+from twinlink.deploy.runs import PhaseSettings, RunTarget
 from twinlink.domain.errors import DocumentError, InvalidInputError
 
 PACKAGE = """\
@@ -99,3 +103,25 @@ def test_package_refs_as_deployments_name_them() -> None:
     assert package_ref("lib:common/twins/rig", None) == "lib:common/twins/rig"
     with pytest.raises(InvalidInputError):
         package_ref("", None)
+
+
+def test_what_a_phase_does_not_give_comes_from_the_default_then_the_server() -> None:
+    text = PACKAGE.replace(
+        "  default: {timeout_s: 60}\n  execute: {timeout_s: 0, memory_mb: 256}\n",
+        "  default: {memory_mb: 512}\n  execute: {timeout_s: 0}\n  analyze: {memory_mb: 64}\n",
+    )
+    package = parse_package(text)
+    assert package.limits("execute") == PhaseLimits(0, 512)  # memory: the package's default
+    assert package.limits("analyze") == PhaseLimits(None, 64)  # timeout: the server's
+    assert package.limits("create") == PhaseLimits(None, 512)
+    # As a run's target has them: the server's settings fill what the package leaves out.
+    server = Limits(3600, 2048)
+    settings = {p: PhaseSettings(v.timeout_s, v.memory_mb) for p, v in package.lifecycle.items()}
+
+    async def prepare(work: Path) -> None:
+        pass
+
+    target = RunTarget(1, "rig", "rig", 1, prepare, lifecycle=settings)
+    assert target.limits("execute", server) == Limits(0, 512)
+    assert target.limits("analyze", server) == Limits(3600, 64)
+    assert target.limits("clean", server) == Limits(3600, 512)

@@ -49,14 +49,18 @@ async def terminate(
         record.state = "terminated"
         await svc.save(record)
 
+    target = svc.phases.target(record, loaded, tokens) if loaded and ending else None
+
     async def remove() -> None:
         await remove_all(svc, principal, record.id, purge)
+        if target is not None:
+            target.device_tokens = {}  # gone with the devices: `clean` gets none
 
     async def finish() -> None:
         await svc.phases.remove_folder(record.id)
         await svc.release(record)
 
-    if not svc.phases.ready or loaded is None or not ending:
+    if not svc.phases.ready or target is None:
         await remove()
         await finish()
     else:
@@ -64,7 +68,6 @@ async def terminate(
         if "terminate" not in ending:
             await remove()  # at once: the answer shows it done
         steps += ["clean"] if "clean" in ending else []
-        target = svc.phases.target(record, loaded, tokens)
         svc.phases.in_turn(principal, target, steps, finish)
     return await svc.store.get_deployment(record.id) or record
 
