@@ -41,7 +41,10 @@ async def terminate(
 ) -> DeploymentRecord:
     """Terminate `record` (its changer checked by the caller); the record as it is then."""
     loaded = await svc.pinned(record)
-    ending = [p for p in ("terminate", "clean") if loaded and loaded.has_phase(p)]
+    # The scripts run for a deployment that was made (not a planned or failed one, nor one
+    # terminated again to remove what a stopped server left).
+    made = record.state in ("created", "running", "stopped")
+    ending = [p for p in ("terminate", "clean") if made and loaded and loaded.has_phase(p)]
     svc.phases.check(principal, record.created_by, loaded, *ending)
     async with svc.lock:
         await svc.phases.cancel(record.id, "execute")

@@ -15,7 +15,7 @@ from twinlink.domain.runs import RunRecord
 def kill_leftover(run: RunRecord, work: Path) -> None:
     """A run's process group that outlived its server (killed with SIGKILL, it could not
     stop it): killed, if its leader is still that run's (a session leader working in the
-    run's dir: a pid used again by another process is left alone)."""
+    run's deployment's folder `work`: a pid used again by another process is left alone)."""
     if run.pid is None:
         return
     with contextlib.suppress(OSError):
