@@ -103,12 +103,14 @@ async def test_a_tagged_run_is_claimed_and_run_by_the_node_with_the_tags(
     await _until(running, "the gpu node to claim and start the run")
     assert (await plain.get(run.id)).node == "node-b"
     assert _log(plain, run.id) == ""  # node-a never ran it
+    with pytest.raises(TimeoutError):  # waiting is bounded, and leaves the run running
+        await plain.wait(run.id, 0.2)
+    assert (await plain.get(run.id)).state == "running"
     (gpu.settings.folder(1) / "go").touch()  # the deployment's folder on the node of its run
-
-    async def ended() -> bool:
-        return (await gpu.get(run.id)).state == "succeeded"
-
-    await _until(ended, "the run to succeed on the gpu node")
+    # Either node sees its end: the one running it awaits it, the other looks at the store.
+    assert (await gpu.wait(run.id, 60)).state == "succeeded"
+    assert (await plain.wait(run.id, 60)).state == "succeeded"
+    assert not (plain.settings.folder(1)).exists()  # each node has its own folders
 
 
 async def test_a_run_is_cancelled_from_another_node(
