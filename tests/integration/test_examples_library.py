@@ -242,5 +242,6 @@ def test_the_dtaas_folder_imports_and_its_phases_run_as_deployment_runs(server: 
     assert "simulated 5 s in 501 rows" in log, log
     run, log = finished_run(server, "msd-a", "analyze")
     assert (run["state"], run["exit_code"]) == ("succeeded", 0), log
+    assert "simulating first" not in log  # execute's results, in the deployment's folder
     overshoot = float(re.search(r"overshoot_percent: ([0-9.]+)", log)[1])  # type: ignore[index]
     assert math.isclose(overshoot, 100 * math.exp(-math.pi * 0.1 / math.sqrt(0.99)), rel_tol=0.01)
