@@ -15,7 +15,8 @@ from typing import Any
 import httpx
 import pytest
 
-from tests.conftest import Server, start_server, stop_server
+from tests.conftest import Server, restart_server, start_server, stop_server
+from tests.integration._runs import WAIT_FOR_GO, deploy_package, wait_log
 from tests.integration._util import poll_until, unique
 
 pytestmark = pytest.mark.integration
@@ -189,3 +190,34 @@ def test_a_terminated_deployment_is_not_reconfigured(server: Server) -> None:
         assert c.post(f"/api/v1/deployments/{name}/terminate").status_code == 200
         r = c.patch(f"/api/v1/deployments/{name}", json={"package": "foldered@2.0.0"})
         assert r.status_code == 409 and "terminated" in r.json()["detail"], r.text
+
+
+def test_terminating_again_removes_what_a_stopped_server_left(tmp_path: Path) -> None:
+    server = start_server(tmp_path / "data")
+    try:
+        scripts = {"terminate": f"echo stopping\n{WAIT_FOR_GO}", "clean": "echo cleaned\n"}
+        name = deploy_package(server, scripts)
+        with server.admin as c:
+            r = c.post(f"/api/v1/deployments/{name}/terminate")
+            assert r.status_code == 200, r.text
+            stopping = poll_until(lambda: c.get(f"/api/v1/deployments/{name}/runs").json()
+                                  ["runs"], "the terminate run")  # fmt: skip
+        wait_log(server, stopping[0]["id"], "stopping\n")
+        stop_server(server)  # while the terminate script runs: the device is still there
+        server = restart_server(server)
+        with server.admin as c:
+            shown = c.get(f"/api/v1/deployments/{name}").json()
+            assert shown["state"] == "terminated" and shown["resources"]["devices"] == [
+                "tingen-SAP"
+            ]
+            r = c.post(f"/api/v1/deployments/{name}/terminate")
+            assert r.status_code == 200, r.text
+            assert r.json()["resources"]["devices"] == []  # removed, the scripts not run again
+            runs = c.get(f"/api/v1/deployments/{name}/runs").json()["runs"]
+            assert [(run["phase"], run["state"]) for run in runs] == [("terminate", "cancelled")]
+            r = c.post(f"/api/v1/deployments/{name}/terminate")  # nothing left to remove
+            assert r.status_code == 409, r.text
+            deployment_id = shown["id"]
+        assert not (Path(server.data_dir) / "deployments" / str(deployment_id)).exists()
+    finally:
+        stop_server(server)

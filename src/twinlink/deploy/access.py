@@ -26,9 +26,15 @@ async def may_see(
 
 
 async def check_may_change(
-    registry: RegistryService, principal: Principal, record: DeploymentRecord
+    registry: RegistryService,
+    principal: Principal,
+    record: DeploymentRecord,
+    *,
+    ended: bool = False,
 ) -> None:
-    if not record.live:
+    """`ended`: a terminated deployment may be changed too (terminated again, to remove what
+    a server stopped before it had removed)."""
+    if not record.live and not (ended and record.state == "terminated"):
         raise ConflictError(f"deployment {record.name!r} is {record.state}; create it again")
     twin = await registry.get_twin(record.twin)
     role = await registry.role_of(principal, twin) if twin else None

@@ -19,6 +19,7 @@ from twinlink.deploy.apply import Parts
 from twinlink.deploy.loading import Loaded
 from twinlink.deploy.phases import Phases, Step
 from twinlink.domain.deployments import DeploymentRecord
+from twinlink.domain.errors import ConflictError
 from twinlink.store.base import MetadataStore
 
 
@@ -39,7 +40,11 @@ class DeploymentService(Protocol):
 async def terminate(
     svc: DeploymentService, principal: Principal, record: DeploymentRecord, purge: bool
 ) -> DeploymentRecord:
-    """Terminate `record` (its changer checked by the caller); the record as it is then."""
+    """Terminate `record` (its changer checked by the caller); the record as it is then. A
+    terminated deployment is terminated again only to remove what is left of it."""
+    left = [e for e in record.journal if purge or e["type"] != "twin"]
+    if record.state == "terminated" and not left:
+        raise ConflictError(f"deployment {record.name!r} is terminated; create it again")
     loaded = await svc.pinned(record)
     # The scripts run for a deployment that was made (not a planned or failed one, nor one
     # terminated again to remove what a stopped server left).

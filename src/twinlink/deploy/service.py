@@ -106,9 +106,11 @@ class DeploymentService:
             raise NotFoundError(f"no deployment {name!r}")
         return record
 
-    async def _changeable(self, principal: Principal, name: str) -> DeploymentRecord:
+    async def _changeable(
+        self, principal: Principal, name: str, ended: bool = False
+    ) -> DeploymentRecord:
         record = await self.get(principal, name)
-        await check_may_change(self.parts.registry, principal, record)
+        await check_may_change(self.parts.registry, principal, record, ended=ended)
         return record
 
     # -- create ----------------------------------------------------------------------------
@@ -310,8 +312,8 @@ class DeploymentService:
         """End the deployment (ending.py): its `terminate` script, what it made removed (the
         twin too when `purge`), `clean`, its working folder removed, its holds released; the
         deployment `terminated` at once, the scripts in the background."""
-        return await ending.terminate(self, principal, await self._changeable(principal, name),
-                                      purge)  # fmt: skip
+        record = await self._changeable(principal, name, ended=True)
+        return await ending.terminate(self, principal, record, purge)
 
     async def reconfigure(
         self,
