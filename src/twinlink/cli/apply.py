@@ -12,14 +12,24 @@ from twinlink.cli.common import client_for
 from twinlink.cli.connectors import apply_connectors, connector_file
 
 YAML_SUFFIXES = (".yaml", ".yml", ".json")
+# A folder holding one of these is a library asset (a twin package, a DTaaS twin, an asset with
+# its metadata): it is pushed with `twinlink lib push`, and its YAML is no DT document.
+ASSET_MARKERS = ("twin.yaml", "asset.yaml", "lifecycle")
 
 
 def _document_files(paths: tuple[str, ...]) -> list[Path]:
     files: list[Path] = []
     for p in map(Path, paths):
         if p.is_dir():
+            assets = {m.parent for name in ASSET_MARKERS for m in p.rglob(name)}
             files.extend(
-                sorted(f for f in p.rglob("*") if f.suffix in YAML_SUFFIXES and f.is_file())
+                sorted(
+                    f
+                    for f in p.rglob("*")
+                    if f.suffix in YAML_SUFFIXES
+                    and f.is_file()
+                    and not assets.intersection(f.parents)
+                )
             )
         else:
             files.append(p)
