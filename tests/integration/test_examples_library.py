@@ -133,6 +133,60 @@ def test_the_tingen_package_runs_its_rig_and_fmu(
     assert wait_for(server, "rig-a", "fmu", lambda p: p["state"] == "stopped")
 
 
+def test_a_new_fmu_version_reaches_a_running_deployment_with_its_parameters_kept(
+    server: Server, tingen_pushed: dict[str, Any], fmu_files: FmuFiles, tmp_path: Path
+) -> None:
+    """Reconfigure to a package version whose FMU is another version: the plan says the
+    processor changes and nothing else, the processor runs the new FMU, and the parameters
+    given at create stay."""
+    made = deploy(server, "tingen-rig@1.0.0", "rig-c", parameters={"zeta": 1.2}, start=True)
+    assert made["deployment"]["parameters"]["zeta"] == 1.2
+    wait_for(server, "rig-c", "fmu", lambda p: p["state"] == "running")
+    # The beam as FMI 3 (another build, another digest) as 1.1.0, and the package naming it.
+    fmu3 = tmp_path / "tingen.fmu"
+    shutil.copyfile(fmu_files("tingen3"), fmu3)
+    package = tmp_path / "tingen-rig"
+    shutil.copytree(LIBRARY / "tingen-rig", package)
+    twin_yaml = package / "twin.yaml"
+    text = twin_yaml.read_text()
+    assert "tingen-beam@1.0.0" in text
+    twin_yaml.write_text(text.replace("tingen-beam@1.0.0", "tingen-beam@1.1.0"))
+    with server.admin as admin:
+        for kind, name, query, body in (
+            ("models", "tingen-beam", {"format": "file", "filename": "tingen.fmu"},
+             fmu3.read_bytes()),
+            ("twins", "tingen-rig", {"format": "tar"}, b"".join(pack(folder_files(package)))),
+        ):  # fmt: skip
+            query = {**query, "tag": "1.1.0", "latest": "false"}
+            r = admin.post(f"/api/v1/library/common/{kind}/{name}/versions", params=query,
+                           content=body)  # fmt: skip
+            assert r.status_code == 201, r.text
+        new_beam = admin.get("/api/v1/library/common/models/tingen-beam/versions/1.1.0").json()
+        assert new_beam["digest"] != tingen_pushed["digest"]
+        change = {"package": "common/twins/tingen-rig@1.1.0"}
+        r = admin.patch("/api/v1/deployments/rig-c", params={"dry_run": True}, json=change)
+        assert r.status_code == 200, r.text
+        plan = r.json()["plan"]
+        assert [(u["type"], u["name"]) for u in plan["update"]] == [("processor", "fmu")], plan
+        assert not plan["create"] and not plan["delete"], plan
+        r = admin.patch("/api/v1/deployments/rig-c", json=change)
+        assert r.status_code == 200, r.text
+        deployment = admin.get("/api/v1/deployments/rig-c").json()
+    assert deployment["parameters"] == {"zeta": 1.2, "sample_rate": 100}
+    assert "tingen-rig@sha256:" in deployment["package"]
+    pinned = f"lib:common/models/tingen-beam@{new_beam['digest']}#tingen.fmu"
+    view = wait_for(server, "rig-c", "fmu",
+                    lambda p: p["params"]["fmu"] == pinned and p["state"] == "running")  # fmt: skip
+    assert view["params"]["parameters"] == {"zeta": 1.2}
+    with server.admin as admin:
+        r = admin.post("/api/v1/deployments/rig-c/terminate", json={"purge": True})
+        assert r.status_code == 200, r.text
+        # Nothing holds 1.1.0 any more: it goes, which leaves 1.0.0 to the last test.
+        for kind, name in (("twins", "tingen-rig"), ("models", "tingen-beam")):
+            r = admin.delete(f"/api/v1/library/common/{kind}/{name}/versions/1.1.0")
+            assert r.status_code == 204, r.text
+
+
 def test_a_deployed_tingen_leaves_nothing_held_once_terminated(
     server: Server, tingen_pushed: dict[str, Any]
 ) -> None:
