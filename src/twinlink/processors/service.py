@@ -31,6 +31,7 @@ from twinlink.ingest.service import IngestService
 from twinlink.library.service import LibraryService
 from twinlink.processors.catalog import Entry, discover
 from twinlink.processors.checks import check_chain, checked_spec, spec_of
+from twinlink.processors.fmuenv import FmuEnvs
 from twinlink.processors.hosting import Hosted, save_positions, subscribed
 from twinlink.processors.libref import LibraryFmus
 from twinlink.processors.outputs import Outputs
@@ -81,6 +82,7 @@ class ProcessorService:
         self._changing = asyncio.Lock()
         self.outputs = Outputs(ingest)
         self.lib = LibraryFmus(library)  # FMUs of the library (`fmu: lib:...`, libref.py)
+        self.envs = FmuEnvs(self.data_dir / "fmu-envs")  # python_requirements (fmuenv.py)
         registry.deleted_listeners.append(self._twins_deleted)
 
     # -- lifecycle --------------------------------------------------------------------------
@@ -352,6 +354,11 @@ class ProcessorService:
             workdir=self.data_dir / "processors" / str(record.id),
             memory_limit_bytes=spec.memory_limit_mb * 2**20,
             batch_timeout_s=spec.batch_timeout_s,
+            interpreter=(
+                partial(self.envs.python, spec.python_requirements)
+                if spec.python_requirements
+                else None
+            ),
         )
 
     def _record_events(self, record: ProcessorRecord, events: list[EventTuple]) -> None:

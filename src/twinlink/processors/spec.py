@@ -74,6 +74,13 @@ class ProcessorSpec(BaseModel):
     )
     params: dict[str, Any] = Field(default_factory=dict, description="the blueprint's parameters")
     rates: Rates = Field(default_factory=Rates)
+    python_requirements: list[str] = Field(
+        default_factory=list,
+        max_length=100,
+        description="pip requirements (`more-itertools==10.7.0`) of a Python FMU: the worker "
+        "runs in a virtualenv of its own made from them (docs/processors.md) [none: the "
+        "server's Python]",
+    )
     memory_limit_mb: int = Field(
         1024, ge=16, le=1 << 20, description="the worker is restarted when its RSS is above this"
     )
@@ -90,6 +97,18 @@ class ProcessorSpec(BaseModel):
                 f"{value!r} must be lowercase letters, digits, '_' or '-', starting with a letter"
             )
         return value
+
+    @field_validator("python_requirements")
+    @classmethod
+    def _requirements(cls, value: list[str]) -> list[str]:
+        for line in value:  # one requirement each: pip options could point pip anywhere
+            option = line.lstrip().startswith("-") or " -" in line or "\n" in line
+            if option or not line.strip() or len(line) > 300:
+                raise ValueError(
+                    f"{line!r} is not a requirement: give one package each, as "
+                    "`name==version` (pip options and files are not allowed)"
+                )
+        return [line.strip() for line in value]
 
     @field_validator("output")
     @classmethod

@@ -29,6 +29,7 @@ from typing import Any
 import psutil
 
 from twinlink.processors.blueprint import Batch
+from twinlink.processors.fmuenv import EnvBuildError
 from twinlink.processors.stats import ProcessorStats
 from twinlink.processors.wire import ChannelClosed, frame, pack_batch, read_frame, unpack_batch
 
@@ -45,6 +46,9 @@ LOG_LINES = 500
 
 # (kind, message, time_ns, data)
 EventTuple = tuple[str, str, int, dict[str, Any]]
+# The interpreter of a processor's own Python env (fmuenv.py), built first if need be; it is
+# told the env's key when a build starts.
+Interpreter = Callable[[Callable[[str], None]], Awaitable[Path]]
 
 
 @dataclass(slots=True)
@@ -60,6 +64,7 @@ class WorkerConfig:
     workdir: Path
     memory_limit_bytes: int
     batch_timeout_s: float = 30.0
+    interpreter: Interpreter | None = None  # None: the server's Python
 
     def init_message(self) -> dict[str, Any]:
         return {
@@ -203,6 +208,11 @@ class Supervisor:
                 break
             if cause is None:  # a restart that was asked for
                 continue
+            if cause[0] == "env_failed":  # building it again would fail the same way
+                self.last_error = cause[1]
+                self.on_events([("failed", cause[1], time.time_ns(), cause[2])])
+                self.state = "failed"
+                return
             failures = 1 if loop.time() - began >= STABLE_AFTER_S else failures + 1
             delay = min(BACKOFF_MAX_S, BACKOFF_FIRST_S * 2 ** (failures - 1))
             self.stats.restarts += 1
@@ -222,9 +232,12 @@ class Supervisor:
         self.state = "starting"
         self._restart_requested = False
         self._over_memory = self._hung = self._failure = None
+        python = await self._interpreter()
+        if not isinstance(python, str):
+            return python
         parent, child = socket.socketpair()
         proc = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "twinlink.processors.worker", str(child.fileno()),
+            python, "-m", "twinlink.processors.worker", str(child.fileno()),
             pass_fds=(child.fileno(),), stdin=asyncio.subprocess.DEVNULL,
             stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.STDOUT,
             start_new_session=True, env=worker_environment(),
@@ -251,6 +264,35 @@ class Supervisor:
             self._proc = None
             self._abandon_inflight()
         return self._cause(proc.returncode)
+
+    async def _interpreter(self) -> str | tuple[str, str, dict[str, Any]] | None:
+        """The Python the worker runs in; or why it cannot start (None: it was asked to stop
+        while its env was being built, which may take minutes)."""
+        if self.config.interpreter is None:
+            return sys.executable
+        announced: list[str] = []
+
+        def building(key: str) -> None:
+            announced.append(key)
+            message = f"building its Python environment {key} (python_requirements)"
+            self.on_events([("env_building", message, time.time_ns(), {"env": key})])
+
+        built = asyncio.ensure_future(self.config.interpreter(building))
+        stopping = asyncio.ensure_future(self._stop.wait())
+        await asyncio.wait((built, stopping), return_when=asyncio.FIRST_COMPLETED)
+        stopping.cancel()
+        if not built.done():
+            built.cancel()
+            await asyncio.gather(built, return_exceptions=True)
+            return None
+        try:
+            python = built.result()
+        except EnvBuildError as err:
+            return "env_failed", f"its Python environment could not be built: {err}", {}
+        if announced:
+            self.on_events([("env_ready", "its Python environment is built", time.time_ns(),
+                             {"env": announced[0]})])  # fmt: skip
+        return None if self._restart_requested else str(python)
 
     async def _started(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> bool:
         writer.write(frame(self.config.init_message()))

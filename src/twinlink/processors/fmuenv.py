@@ -1,0 +1,152 @@
+"""A processor's own Python environment, for Python FMUs (pythonfmu) that import packages the
+server does not have.
+
+A processor with `python_requirements` runs its worker in a virtualenv made from that list,
+under data_dir/fmu-envs/<hash>/, where the hash is of the sorted requirements and the server's
+Python version: processors that ask for the same list share one env, built once. A `.pth` file
+in the env's site-packages adds the server's site-packages AFTER the env's own (with
+`site.addsitedir`, so the server's own `.pth` files, twinlink's editable install among them,
+are read too): the worker finds twinlink, FMPy and numpy there, and a package the env has
+wins over the server's copy of it. A finished build is marked by a `ready` file written last,
+so an env half built when the server stopped is built again, never used.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import hashlib
+import json
+import logging
+import os
+import shutil
+import site
+import sys
+import sysconfig
+from collections.abc import Callable
+from pathlib import Path
+
+log = logging.getLogger("twinlink.processors")
+
+READY = "ready"
+PIP_TAIL_LINES = 20
+# What of the server's environment pip sees: where to find packages (a mirror, its
+# certificates, a proxy) and nothing else, so no TWINLINK_* setting or other secret reaches it.
+PIP_PASSED = ("PATH", "HOME", "LANG", "LC_ALL", "TMPDIR", "SSL_CERT_FILE", "SSL_CERT_DIR")
+PIP_PASSED_PREFIXES = ("PIP_INDEX_URL", "PIP_EXTRA_INDEX_URL", "PIP_TRUSTED_HOST", "PIP_CERT",
+                       "PIP_FIND_LINKS", "PIP_NO_INDEX", "PIP_TIMEOUT", "PIP_RETRIES")  # fmt: skip
+PROXIES = ("HTTP_PROXY", "HTTPS_PROXY", "NO_PROXY", "http_proxy", "https_proxy", "no_proxy")
+
+
+class EnvBuildError(Exception):
+    """The env could not be built; the message ends with pip's last lines."""
+
+
+def env_key(requirements: list[str]) -> str:
+    """The env's folder name: the same requirements (in any order) on the same Python share it."""
+    python = f"{sys.implementation.name}-{sys.version_info.major}.{sys.version_info.minor}"
+    text = json.dumps({"python": python, "requirements": sorted(set(requirements))})
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+def pip_environment() -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if k in PIP_PASSED or k in PROXIES}
+    env.update({k: v for k, v in os.environ.items() if k.startswith(PIP_PASSED_PREFIXES)})
+    env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
+    env["PYTHONNOUSERSITE"] = "1"
+    return env
+
+
+def server_site_dirs() -> list[str]:
+    """The server's site-packages folders, its own before its base Python's."""
+    dirs = [sysconfig.get_path("purelib"), sysconfig.get_path("platlib"), *site.getsitepackages()]
+    return list(dict.fromkeys(d for d in dirs if Path(d).is_dir()))
+
+
+class FmuEnvs:
+    """The per-requirements envs under `root` (data_dir/fmu-envs): found, or built once."""
+
+    def __init__(self, root: Path) -> None:
+        self.root = root
+        self._locks: dict[str, asyncio.Lock] = {}
+        self._failed: dict[str, str] = {}  # key -> why its build failed (not tried again)
+
+    def python_of(self, requirements: list[str]) -> Path:
+        return self.root / env_key(requirements) / "bin" / "python"
+
+    def is_ready(self, requirements: list[str]) -> bool:
+        return (self.root / env_key(requirements) / READY).is_file()
+
+    async def python(
+        self, requirements: list[str], building: Callable[[str], None] | None = None
+    ) -> Path:
+        """The interpreter of the env for `requirements`, built first if need be (`building`
+        is told the key when a build starts). Concurrent callers for one env wait for one
+        build; a build that failed fails again at once, with the same message, until the
+        server restarts or the requirements change."""
+        key = env_key(requirements)
+        lock = self._locks.setdefault(key, asyncio.Lock())
+        async with lock:
+            if key in self._failed:
+                raise EnvBuildError(self._failed[key])
+            folder = self.root / key
+            if not (folder / READY).is_file():
+                if building is not None:
+                    building(key)
+                try:
+                    await self._build(folder, requirements)
+                except EnvBuildError as err:
+                    self._failed[key] = str(err)
+                    raise
+            return folder / "bin" / "python"
+
+    async def _build(self, folder: Path, requirements: list[str]) -> None:
+        await asyncio.to_thread(shutil.rmtree, folder, True)  # a build cut short before
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        log.info("building the Python env %s for %s", folder.name, requirements)
+        # Without pip of its own: the server's pip installs into it (`pip --python`), which
+        # saves the env a copy of pip and works where ensurepip is missing.
+        await _run([sys.executable, "-m", "venv", "--without-pip", str(folder)], "venv")
+        python = folder / "bin" / "python"
+        purelib = "import sysconfig; print(sysconfig.get_path('purelib'))"
+        env_site = await _output([str(python), "-c", purelib])
+        lines = [f"import site; site.addsitedir({d!r})" for d in server_site_dirs()]
+        (Path(env_site) / "_twinlink_server.pth").write_text("\n".join(lines) + "\n")
+        (folder / "requirements.txt").write_text("\n".join(requirements) + "\n")
+        # --ignore-installed: the server's packages are visible through the .pth file, and
+        # pip must not count them as already installed.
+        await _run(
+            [sys.executable, "-m", "pip", "--python", str(python), "install", "--no-input",
+             "--ignore-installed", "-r", str(folder / "requirements.txt")],
+            "pip install",
+        )  # fmt: skip
+        (folder / READY).write_text(json.dumps({"requirements": requirements}) + "\n")
+
+
+async def _run(command: list[str], what: str) -> None:
+    proc = await asyncio.create_subprocess_exec(
+        *command, stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE,
+        stderr=asyncio.subprocess.STDOUT, env=pip_environment(),
+    )  # fmt: skip
+    try:
+        out, _ = await proc.communicate()
+    except asyncio.CancelledError:  # the server stops: no pip left behind
+        with contextlib.suppress(ProcessLookupError):
+            proc.kill()
+        await proc.wait()
+        raise
+    if proc.returncode != 0:
+        tail = out.decode("utf-8", "replace").strip().splitlines()[-PIP_TAIL_LINES:]
+        raise EnvBuildError(f"{what} failed (exit status {proc.returncode}):\n" + "\n".join(tail))
+
+
+async def _output(command: list[str]) -> str:
+    proc = await asyncio.create_subprocess_exec(
+        *command, stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE,
+        stderr=asyncio.subprocess.STDOUT, env=pip_environment(),
+    )  # fmt: skip
+    out, _ = await proc.communicate()
+    text = out.decode("utf-8", "replace").strip()
+    if proc.returncode != 0:
+        raise EnvBuildError(f"the new env's Python does not run: {text[-2000:]}")
+    return text

@@ -1,0 +1,34 @@
+"""The per-requirements Python envs of Python FMUs (fmuenv.py): their key, what of the
+server's environment pip sees, and the requirements a processor may ask for."""
+
+from __future__ import annotations
+
+import pytest
+from pydantic import ValidationError
+
+from twinlink.processors.fmuenv import env_key, pip_environment
+from twinlink.processors.spec import ProcessorSpec
+
+
+def test_the_same_requirements_in_any_order_share_one_env() -> None:
+    assert env_key(["a==1", "b==2"]) == env_key(["b==2", "a==1", "a==1"])
+    assert env_key(["a==1"]) != env_key(["a==2"])
+
+
+def test_pip_sees_the_index_settings_and_no_secret(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PIP_INDEX_URL", "https://mirror.example/simple")
+    monkeypatch.setenv("HTTPS_PROXY", "http://proxy.example:3128")
+    monkeypatch.setenv("TWINLINK_ADMIN_PASSWORD", "secret")
+    monkeypatch.setenv("AWS_SECRET_ACCESS_KEY", "secret")
+    env = pip_environment()
+    assert env["PIP_INDEX_URL"] == "https://mirror.example/simple"
+    assert env["HTTPS_PROXY"] == "http://proxy.example:3128"
+    assert "secret" not in env.values()
+
+
+def test_requirements_are_one_package_each() -> None:
+    spec = ProcessorSpec(name="p", blueprint="fmu", python_requirements=[" toolz==1.0.0 "])
+    assert spec.python_requirements == ["toolz==1.0.0"]
+    for bad in ("-e .", "--index-url=x", "toolz --hash=sha256:0", "", "a\nb"):
+        with pytest.raises(ValidationError, match="not a requirement"):
+            ProcessorSpec(name="p", blueprint="fmu", python_requirements=[bad])
