@@ -10,8 +10,12 @@ from twinlink.domain.errors import ConflictError, InvalidInputError
 from twinlink.domain.records import ProcessorRecord
 from twinlink.processors.blueprint import BlueprintError
 from twinlink.processors.catalog import Entry
-from twinlink.processors.libref import checkable
+from twinlink.processors.fmurules import enumeration_value
+from twinlink.processors.libref import LibraryFmus, check_variables, checkable, lib_ref
 from twinlink.processors.spec import ProcessorSpec
+from twinlink.store.base import MetadataStore
+
+FMU_BLUEPRINT = "fmu"
 
 
 def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSpec:
@@ -34,6 +38,34 @@ def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSp
     if spec.output_stream == spec.source:
         raise InvalidInputError("a processor cannot write the stream it reads")
     return spec
+
+
+async def check_fmu(
+    spec: ProcessorSpec, twin_id: int, slug: str, store: MetadataStore, lib: LibraryFmus
+) -> None:
+    """Refuse an `fmu` processor its FMU cannot run (422 naming the variable and why), from
+    the description kept at upload or library push, so it is not made to crash-loop later.
+    Enumeration parameters given by item name are stored as the item's value."""
+    if spec.blueprint != FMU_BLUEPRINT or not isinstance(spec.params.get("fmu"), str):
+        return
+    name = spec.params["fmu"]
+    if lib_ref(spec.params) is not None:
+        info, where = await lib.described(name)
+    else:
+        record = next((f for f in await store.list_fmus(twin_id) if f.name == name), None)
+        if record is None:
+            raise InvalidInputError(
+                f"params.fmu: twin {slug!r} has no FMU {name!r}; upload it first "
+                f"(PUT /api/v1/twins/{slug}/fmus/{name})"
+            )
+        info, where = record.info, name
+    check_variables(spec.params, info, where, list(spec.inputs))
+    parameters = spec.params.get("parameters")
+    if parameters:
+        by_name = {v.get("name"): v for v in info.get("variables", [])}
+        for key, value in parameters.items():
+            if by_name[key].get("type") == "Enumeration":
+                parameters[key] = enumeration_value(by_name[key], value)
 
 
 def spec_of(record: ProcessorRecord) -> ProcessorSpec:

@@ -50,10 +50,12 @@ class FmuVariable:
     max: float | None = None
     description: str | None = None
     shape: tuple[int, ...] = ()  # FMI 3 arrays; () for scalars
+    items: tuple[tuple[str, int], ...] = ()  # an Enumeration's declared items (name, value)
 
     def as_dict(self) -> dict[str, Any]:
         d = asdict(self)
         d["shape"] = list(self.shape)
+        d["items"] = [{"name": name, "value": value} for name, value in self.items]
         return d
 
 
@@ -271,6 +273,7 @@ def _variable(v: Any) -> FmuVariable:
         max=_float(v.max if v.max is not None else getattr(declared, "max", None)),
         description=v.description,
         shape=shape,
+        items=tuple((str(i.name), int(i.value)) for i in getattr(declared, "items", None) or ()),
     )
 
 

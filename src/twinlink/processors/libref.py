@@ -20,6 +20,7 @@ from twinlink.domain.errors import InvalidInputError, NotFoundError, TwinlinkErr
 from twinlink.domain.library import parse_ref
 from twinlink.domain.records import ProcessorRecord
 from twinlink.library.service import LibraryService, Resolved
+from twinlink.processors.fmurules import check_fmu_params
 
 log = logging.getLogger("twinlink.processors")
 
@@ -50,21 +51,11 @@ def checkable(params: dict[str, Any]) -> dict[str, Any]:
     return {**params, PARAM: Path(path).name if path else "library.fmu"}
 
 
-def check_variables(params: dict[str, Any], info: dict[str, Any], where: str) -> None:
-    """Refuse inputs, outputs and parameters the FMU does not have (422 naming them)."""
-    names = {str(v.get("name")) for v in info.get("variables", [])}
-    asked = {
-        "inputs": params.get("inputs") or [],
-        "outputs": params.get("outputs") or [],
-        "parameters": list(params.get("parameters") or {}),
-    }
-    for what, wanted in asked.items():
-        unknown = [n for n in wanted if n not in names]
-        if unknown:
-            valid = ", ".join(sorted(names)[:20]) + (" ..." if len(names) > 20 else "")
-            raise InvalidInputError(
-                f"params.{what}: {where} has no variable {', '.join(unknown)} (it has: {valid})"
-            )
+def check_variables(
+    params: dict[str, Any], info: dict[str, Any], where: str, mapped: list[str] | None = None
+) -> None:
+    """Refuse inputs, outputs and parameters the FMU cannot run with (422 naming them)."""
+    check_fmu_params(params, mapped or [], info, where)
 
 
 class LibraryFmus:
@@ -135,6 +126,26 @@ class LibraryFmus:
                         "processor %s/%s: its library FMU %s is not available: %s",
                         record.twin_slug, record.name, ref, err,
                     )  # fmt: skip
+
+    async def described(self, ref: str) -> tuple[dict[str, Any], str]:
+        """The FMI description the library kept for the pinned `ref` (held by the processor,
+        so looked up without a person's rights), and the name to give it in errors."""
+        if self.library is None:
+            raise InvalidInputError("params.fmu: this server has no asset library")
+        parsed = parse_ref(ref)
+        if parsed.scope is None or parsed.kind is None or parsed.ref is None:
+            raise InvalidInputError(f"params.fmu: {ref} is not pinned")
+        asset = await self.library.store.get_asset(parsed.scope, parsed.kind, parsed.name)
+        if asset is None:
+            raise InvalidInputError(f"params.fmu: the library has no {ref}")
+        try:
+            version = await self.library.version_of(asset, parsed.ref)
+        except NotFoundError as err:
+            raise InvalidInputError(f"params.fmu: {err}") from err
+        info = version.meta.get("fmus", {}).get(parsed.path)
+        if not isinstance(info, dict):
+            raise InvalidInputError(f"params.fmu: {ref} is not an FMU the library checked")
+        return info, ref
 
     @staticmethod
     async def _local(library: LibraryService, ref: str) -> Path:

@@ -30,7 +30,7 @@ from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
 from twinlink.ingest.service import IngestService
 from twinlink.library.service import LibraryService
 from twinlink.processors.catalog import Entry, discover
-from twinlink.processors.checks import check_chain, checked_spec, spec_of
+from twinlink.processors.checks import check_chain, check_fmu, checked_spec, spec_of
 from twinlink.processors.fmuenv import FmuEnvs
 from twinlink.processors.hosting import Hosted, save_positions, subscribed
 from twinlink.processors.libref import LibraryFmus
@@ -137,6 +137,7 @@ class ProcessorService:
         twin = await self._editable(principal, slug)
         spec = self._checked(body)
         pinned = await self.lib.pin(principal, spec.params)  # a library FMU, pinned
+        await check_fmu(spec, twin.id, twin.slug, self.store, self.lib)
         existing = await self.store.list_processors(twin.id)
         if any(r.name == spec.name for r in existing):
             raise ConflictError(f"the twin already has a processor {spec.name!r}")
@@ -168,6 +169,7 @@ class ProcessorService:
         spec = self._checked(merged)
         new_fmu = spec.params.get("fmu") != current.params.get("fmu")
         pinned = await self.lib.pin(principal, spec.params) if new_fmu else None
+        await check_fmu(spec, record.twin_id, slug, self.store, self.lib)
         others = [r for r in await self.store.list_processors(record.twin_id) if r.id != record.id]
         check_chain(spec, others)
         if spec.enabled and record.id not in self.hosted:
