@@ -17,7 +17,9 @@ from tests.conftest import FmuFiles, Server
 from tests.integration._live import device_twin
 from tests.integration._processors import create, processor
 from tests.integration._processors import server as server  # module fixture
+from tests.integration._util import unique
 from tests.integration.test_fmu_processors import upload
+from tests.integration.test_processors_libref import push_fmu
 
 pytestmark = pytest.mark.integration
 
@@ -190,9 +192,7 @@ def test_values_that_fit_are_kept_and_enumeration_names_stored_as_values(
     server: Server, twin2: str, twin3: str
 ) -> None:
     values = {"u8": 255, "u32": 4294967295, "i8": -10, "i64": -(2**63), "mode": "on"}
-    made = create(
-        server, twin3, **fmu({"fmu": "typed3.fmu", "parameters": values}, enabled=False)
-    )
+    made = create(server, twin3, **fmu({"fmu": "typed3.fmu", "parameters": values}, enabled=False))
     assert made["params"]["parameters"] == {**values, "mode": 1}
     made = create(
         server, twin2,
@@ -214,3 +214,27 @@ def test_an_update_is_checked_as_a_create(server: Server, twin2: str) -> None:
         r = admin.patch(path, json={"params": {"fmu": "gone.fmu"}})
         assert r.status_code == 422 and "no FMU 'gone.fmu'" in r.text, r.text
     assert processor(server, twin2, "upd")["params"] == {"fmu": "status.fmu"}
+
+
+def test_a_library_fmu_is_checked_by_the_same_rules_at_create_and_update(
+    server: Server, fmu_files: FmuFiles, tmp_path: Path
+) -> None:
+    name = unique("typed")
+    push_fmu(server, name, typed(fmu_files("tingen3"), FMI3_TYPED, tmp_path / "typed3.fmu"))
+    slug, _ = device_twin(server)
+    ref = f"lib:models/{name}"
+    detail = refused(server, slug, fmu({"fmu": ref, "parameters": {"u8": 300}}))
+    assert "u8" in detail and "range of UInt8" in detail
+    detail = refused(server, slug, fmu({"fmu": ref}, inputs={"f": "x"}))
+    assert "inputs: f" in detail and "it streams: F" in detail
+    made = create(server, slug, **fmu({"fmu": ref, "parameters": {"mode": "on"}}, enabled=False))
+    assert made["params"]["parameters"] == {"mode": 1}
+    pinned = made["params"]["fmu"]
+    path = f"/api/v1/twins/{slug}/processors/p"
+    with server.admin as admin:  # the pinned version's description, the FMU unchanged
+        r = admin.patch(path, json={"params": {"fmu": pinned, "parameters": {"u32": -1}}})
+        assert r.status_code == 422 and "u32" in r.text and "UInt32" in r.text, r.text
+        r = admin.patch(path, json={"params": {"fmu": pinned, "outputs": ["note"]}})
+        assert r.status_code == 422 and "type String" in r.text, r.text
+        r = admin.patch(path, json={"params": {"fmu": pinned, "parameters": {"u32": 7}}})
+        assert r.status_code == 200, r.text

@@ -139,6 +139,8 @@ def value_problem(var: dict[str, Any], value: Any, fmi3: bool) -> str | None:
         return None if isinstance(value, str) else f"{value!r} is not a string"
     if type_ == "Enumeration":
         return _enumeration_problem(var, value, fmi3)
+    if type_ not in FLOAT_TYPES and type_ not in INT_RANGES:
+        return f"variables of type {type_} cannot be set"
     if isinstance(value, bool) or not isinstance(value, int | float):
         return f"{value!r} is not a number ({type_})"
     if type_ in FLOAT_TYPES:
@@ -147,14 +149,12 @@ def value_problem(var: dict[str, Any], value: Any, fmi3: bool) -> str | None:
         if type_ == "Float32" and abs(value) > FLOAT32_MAX:
             return f"{value!r} is outside the range of Float32"
         return _range_problem(var, value, type_)
-    if type_ in INT_RANGES:
-        if isinstance(value, float) and not (math.isfinite(value) and value.is_integer()):
-            return f"{value!r} is not a whole number ({type_})"
-        low, high = INT_RANGES[type_]
-        if not low <= int(value) <= high:
-            return f"{int(value)} is outside the range of {type_} [{low}, {high}]"
-        return _range_problem(var, int(value), type_)
-    return f"variables of type {type_} cannot be set"
+    if isinstance(value, float) and not (math.isfinite(value) and value.is_integer()):
+        return f"{value!r} is not a whole number ({type_})"
+    low, high = INT_RANGES[type_]
+    if not low <= int(value) <= high:
+        return f"{int(value)} is outside the range of {type_} [{low}, {high}]"
+    return _range_problem(var, int(value), type_)
 
 
 def _enumeration_problem(var: dict[str, Any], value: Any, fmi3: bool) -> str | None:
