@@ -207,6 +207,7 @@ def _processor_service(
         settings.max_processors,
         stores.claims("processor"),
         stores.history,  # a processor starting on a shared store catches up from it
+        env_build_timeout_s=settings.fmu_env_build_timeout_s,
     )
 
 

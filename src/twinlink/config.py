@@ -152,6 +152,13 @@ class Settings(BaseSettings):
         "of about 60 MB); creating or starting one more answers 409.",
     )
     fmu_max_mb: int = Field(512, gt=0, description="Largest FMU file an upload may be, in MB.")
+    fmu_env_build_timeout_s: float = Field(
+        900,
+        gt=0,
+        description="Longest pip may take to build a processor's own Python environment "
+        "(`python_requirements`, for Python FMUs), in seconds; a build still going then fails "
+        "the processor.",
+    )
     fmu_uploaders: Literal["admins", "editors"] = Field(
         "admins",
         description="Who may upload and delete FMUs: admins, or also editors of the twin. An "

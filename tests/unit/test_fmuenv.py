@@ -3,10 +3,12 @@ server's environment pip sees, and the requirements a processor may ask for."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from pydantic import ValidationError
 
-from twinlink.processors.fmuenv import env_key, pip_environment
+from twinlink.processors.fmuenv import EnvBuildError, FmuEnvs, env_key, pip_environment
 from twinlink.processors.spec import ProcessorSpec
 
 
@@ -32,3 +34,15 @@ def test_requirements_are_one_package_each() -> None:
     for bad in ("-e .", "--index-url=x", "toolz --hash=sha256:0", "", "a\nb"):
         with pytest.raises(ValidationError, match="not a requirement"):
             ProcessorSpec(name="p", blueprint="fmu", python_requirements=[bad])
+
+
+async def test_a_build_past_its_time_fails_and_fails_again_at_once(tmp_path: Path) -> None:
+    envs = FmuEnvs(tmp_path, build_timeout_s=0.01)  # pip cannot even start in that time
+    started: list[str] = []
+    with pytest.raises(EnvBuildError, match=r"pip install took longer than 0\.01 s"):
+        await envs.python(["more-itertools==10.7.0"], started.append)
+    assert started == [env_key(["more-itertools==10.7.0"])]
+    assert not envs.is_ready(["more-itertools==10.7.0"])
+    with pytest.raises(EnvBuildError, match="took longer"):  # not built again
+        await envs.python(["more-itertools==10.7.0"], started.append)
+    assert len(started) == 1

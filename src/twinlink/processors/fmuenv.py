@@ -66,8 +66,9 @@ def server_site_dirs() -> list[str]:
 class FmuEnvs:
     """The per-requirements envs under `root` (data_dir/fmu-envs): found, or built once."""
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, build_timeout_s: float = 900.0) -> None:
         self.root = root
+        self.build_timeout_s = build_timeout_s
         self._locks: dict[str, asyncio.Lock] = {}
         self._failed: dict[str, str] = {}  # key -> why its build failed (not tried again)
 
@@ -119,21 +120,26 @@ class FmuEnvs:
             [sys.executable, "-m", "pip", "--python", str(python), "install", "--no-input",
              "--ignore-installed", "-r", str(folder / "requirements.txt")],
             "pip install",
+            self.build_timeout_s,
         )  # fmt: skip
         (folder / READY).write_text(json.dumps({"requirements": requirements}) + "\n")
 
 
-async def _run(command: list[str], what: str) -> None:
+async def _run(command: list[str], what: str, timeout_s: float | None = None) -> None:
     proc = await asyncio.create_subprocess_exec(
         *command, stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE,
         stderr=asyncio.subprocess.STDOUT, env=pip_environment(),
     )  # fmt: skip
     try:
-        out, _ = await proc.communicate()
-    except asyncio.CancelledError:  # the server stops: no pip left behind
+        out, _ = await asyncio.wait_for(proc.communicate(), timeout_s)
+    except (asyncio.CancelledError, TimeoutError) as err:  # no pip left behind
         with contextlib.suppress(ProcessLookupError):
             proc.kill()
         await proc.wait()
+        if isinstance(err, TimeoutError):
+            raise EnvBuildError(
+                f"{what} took longer than {timeout_s:g} s (TWINLINK_FMU_ENV_BUILD_TIMEOUT_S)"
+            ) from err
         raise
     if proc.returncode != 0:
         tail = out.decode("utf-8", "replace").strip().splitlines()[-PIP_TAIL_LINES:]

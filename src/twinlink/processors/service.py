@@ -60,6 +60,7 @@ class ProcessorService:
         claims: Claims | None = None,
         history: HistoryReadStore | None = None,
         library: LibraryService | None = None,
+        env_build_timeout_s: float = 900.0,
     ) -> None:
         self.store = store
         self.registry = registry
@@ -82,7 +83,8 @@ class ProcessorService:
         self._changing = asyncio.Lock()
         self.outputs = Outputs(ingest)
         self.lib = LibraryFmus(library)  # FMUs of the library (`fmu: lib:...`, libref.py)
-        self.envs = FmuEnvs(self.data_dir / "fmu-envs")  # python_requirements (fmuenv.py)
+        # python_requirements (fmuenv.py)
+        self.envs = FmuEnvs(self.data_dir / "fmu-envs", env_build_timeout_s)
         registry.deleted_listeners.append(self._twins_deleted)
 
     # -- lifecycle --------------------------------------------------------------------------
