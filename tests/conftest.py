@@ -147,6 +147,8 @@ FMU_SOURCES = {
     "crash": ROOT / "tests" / "fmus" / "crash",
     "leak": ROOT / "tests" / "fmus" / "leak",
     "status": ROOT / "tests" / "fmus" / "status",
+    "stair": ROOT / "tests" / "fmus" / "stair" / "fmi2",
+    "stair3": ROOT / "tests" / "fmus" / "stair" / "fmi3",
 }
 
 
@@ -170,5 +172,6 @@ class FmuFiles:
 @pytest.fixture(scope="session")
 def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
     """`fmu_files(name)` is the path of the built FMU: "tingen" (FMI 2.0, examples/tingen/fmu),
-    "tingen3" (FMI 3.0, examples/tingen/fmu3), or "crash", "leak", "status" (tests/fmus)."""
+    "tingen3" (FMI 3.0, examples/tingen/fmu3), or "crash", "leak", "status", "stair" (FMI 2.0)
+    and "stair3" (FMI 3.0) (tests/fmus)."""
     return FmuFiles(tmp_path_factory.mktemp("fmus"))

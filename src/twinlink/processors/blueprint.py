@@ -151,9 +151,15 @@ class Context:
     log: logging.Logger = field(default_factory=lambda: logging.getLogger("twinlink.blueprint"))
     events: list[Event] = field(default_factory=list)
     commands: list[Command] = field(default_factory=list)
+    # Set by `finish`: the blueprint is done for good (e.g. an FMU that ended its simulation);
+    # the worker stops after this batch and the processor is `finished`, not restarted.
+    finished: Event | None = None
 
     def event(self, kind: str, message: str, time_ns: int = 0, **data: Any) -> None:
         self.events.append(Event(kind, message, time_ns, data))
+
+    def finish(self, message: str, **data: Any) -> None:
+        self.finished = Event("finished", message, 0, data)
 
     def command(self, name: str, device: str | None = None, **params: Any) -> None:
         self.commands.append(Command(name, params, device))

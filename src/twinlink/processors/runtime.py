@@ -39,6 +39,8 @@ class Runtime:
             timings.append((time.perf_counter_ns() - began, len(chunk)))
             if made is not None and len(made):
                 outputs.append(made)
+            if self.blueprint.ctx.finished is not None:  # what comes after is not processed
+                break
         out = Batch.concat(outputs) if outputs else None
         if out is not None:
             out = self._spaced(out, self.rates.min_output_spacing_s, "output")
@@ -49,6 +51,8 @@ class Runtime:
             "events": [[e.kind, e.message, e.time_ns, e.data] for e in ctx.events],
             "commands": [[c.name, c.params, c.device] for c in ctx.commands],
         }
+        if ctx.finished is not None:
+            reply["finished"] = [ctx.finished.message, ctx.finished.data]
         ctx.events.clear()
         ctx.commands.clear()
         return reply, out

@@ -83,6 +83,9 @@ class ProcessorService:
         self._changing = asyncio.Lock()
         self.outputs = Outputs(ingest)
         self.lib = LibraryFmus(library)  # FMUs of the library (`fmu: lib:...`, libref.py)
+        # The logs and last error of processors stopped here, kept for the API until they
+        # are started again or deleted (a stopped processor's diagnostics are what one reads).
+        self.left: dict[int, tuple[list[tuple[int, str]], str | None]] = {}
         # python_requirements (fmuenv.py)
         self.envs = FmuEnvs(self.data_dir / "fmu-envs", env_build_timeout_s)
         registry.deleted_listeners.append(self._twins_deleted)
@@ -95,7 +98,7 @@ class ProcessorService:
         await self.lib.open(records)
         if self.claims is None:  # the only node: it runs every enabled processor
             await self.lib.prepare([r for r in records if r.enabled])
-            self._host_all(records)
+            self._host_all(records, await self._finished(records))
         else:  # one of several: it runs those whose leases it takes, now and every round
             await self._rebalance()
             self._keeper = asyncio.create_task(self.claims.keep(self._rebalance, self._changing))
@@ -211,6 +214,7 @@ class ProcessorService:
         async with self._changing:
             await self._unhost(record.id)
             await self.store.delete_processor(record.id)
+            self.left.pop(record.id, None)
             await self.lib.release([record.id])
             await self._forget_position(record.id)
 
@@ -224,7 +228,7 @@ class ProcessorService:
     async def logs(self, principal: Principal, slug: str, name: str) -> list[tuple[int, str]]:
         record = await self._find(principal, slug, name, "viewer")
         hosted = self.hosted.get(record.id)
-        return list(hosted.supervisor.logs) if hosted else []
+        return list(hosted.supervisor.logs) if hosted else self.left.get(record.id, ([], None))[0]
 
     def view(self, record: ProcessorRecord) -> dict[str, Any]:
         hosted = self.hosted.get(record.id)
@@ -237,7 +241,7 @@ class ProcessorService:
             "enabled": record.enabled,
             "state": sup.state if sup else "stopped",
             "pid": sup.pid if sup and sup.state == "running" else None,
-            "last_error": sup.last_error if sup else None,
+            "last_error": sup.last_error if sup else self.left.get(record.id, ([], None))[1],
             "restart_at": sup.restart_at if sup else None,
             "stats": sup.stats.view() if sup else None,
             "running": sup.info if sup else {},
@@ -247,7 +251,18 @@ class ProcessorService:
 
     # -- which node runs what (a shared store) --------------------------------------------
 
-    def _host_all(self, records: list[ProcessorRecord]) -> None:
+    async def _finished(self, records: list[ProcessorRecord]) -> dict[int, str]:
+        """The enabled processors that were finished when the server stopped (their newest
+        event says so): they stay finished until started again through the API."""
+        finished = {}
+        for record in records:
+            if record.enabled:
+                newest = await self.store.list_processor_events(record.id, 1)
+                if newest and newest[0].kind == "finished":
+                    finished[record.id] = newest[0].message
+        return finished
+
+    def _host_all(self, records: list[ProcessorRecord], finished: dict[int, str]) -> None:
         for record in records:
             if not record.enabled:
                 continue
@@ -257,7 +272,7 @@ class ProcessorService:
                     record.twin_slug, record.name, self.max_running,
                 )  # fmt: skip
                 continue
-            self._host(record)
+            self._host(record, finished.get(record.id))
 
     async def _may_run(self, processor_id: int) -> bool:
         """Whether this node may run the processor: always when it is the only node; on a
@@ -300,7 +315,7 @@ class ProcessorService:
 
     # -- hosting ----------------------------------------------------------------------------
 
-    def _host(self, record: ProcessorRecord) -> None:
+    def _host(self, record: ProcessorRecord, finished: str | None = None) -> None:
         entry = self.catalog.get(record.blueprint)
         config = self._worker_config(record, entry)
         supervisor = Supervisor(
@@ -314,6 +329,11 @@ class ProcessorService:
             catch_up_from = (self.claims, self.history)
         hosted = subscribed(record, supervisor, self.bus, catch_up_from)
         self.hosted[record.id] = hosted
+        logs, _ = self.left.pop(record.id, ([], None))
+        supervisor.logs.extend(logs)  # the earlier runs' lines first, as before the stop
+        if finished is not None:
+            supervisor.finished(finished)
+            return
         if entry is None:
             why = f"blueprint {record.blueprint!r} is not available"
             supervisor.last_error = why
@@ -325,6 +345,8 @@ class ProcessorService:
         hosted = self.hosted.pop(processor_id, None)
         if hosted is not None:
             await hosted.stop()
+            sup = hosted.supervisor
+            self.left[processor_id] = (list(sup.logs), sup.last_error)
 
     async def _apply(self, record: ProcessorRecord, old: ProcessorSpec, new: ProcessorSpec) -> bool:
         if new.enabled:  # its library FMU's file (if it uses one), found before it starts

@@ -6,6 +6,9 @@ a minute; each death is reported as an event with its cause and the last lines o
 Inputs that arrive while a worker is busy are sent as one batch when it is free (at most
 MAX_INFLIGHT batches are in the worker at once), so a burst costs one round trip, not many;
 inputs beyond `max_pending` samples, or while no worker runs, are dropped and counted.
+A blueprint that finished (an FMU that ended its simulation) ends its worker normally: the
+processor is then `finished`, with an event, and is neither restarted nor counted as crashed
+until it is started again (`restart`).
 `processed_t` is how far the worker got: the newest input time of the batches it answered
 (a processor's position, saved on a shared store so another node can go on from there).
 """
@@ -102,7 +105,7 @@ class Supervisor:
         self.on_output = on_output
         self.on_events = on_events
         self.on_commands = on_commands
-        self.state = "stopped"  # starting, running, backoff, stopping, stopped
+        self.state = "stopped"  # starting, running, backoff, stopping, stopped, finished
         self.stats = ProcessorStats()
         self.logs: deque[tuple[int, str]] = deque(maxlen=LOG_LINES)
         self.info: dict[str, Any] = {}
@@ -126,6 +129,7 @@ class Supervisor:
         self._hung: float | None = None
         self._failure: str | None = None
         self._configured: asyncio.Future[bool] | None = None
+        self._finished: tuple[str, dict[str, Any]] | None = None  # the blueprint's last word
 
     # -- the server's side --------------------------------------------------------------
 
@@ -134,6 +138,11 @@ class Supervisor:
             return
         self._stop.clear()
         self._task = asyncio.create_task(self._run(), name=f"processor {self.config.name}")
+
+    def finished(self, message: str) -> None:
+        """Take up as finished (it was when the server stopped), without starting a worker."""
+        self.state, self.last_error = "finished", None
+        self.logs.append((time.time_ns(), f"finished before the server started: {message}"))
 
     def feed(self, batch: Batch, arrived: float) -> None:
         """Queue input for the worker (`arrived`: perf_counter when it reached the server)."""
@@ -164,6 +173,9 @@ class Supervisor:
     async def reconfigure(self, config: WorkerConfig, params_only: bool) -> bool:
         """Use `config` from now on. True when the running worker kept its state."""
         self.config = config
+        if self.state == "finished":  # changed: it starts again, from the start
+            self.start()
+            return False
         if self.state == "starting":  # it may have been sent the config before: start anew
             self._restart_requested = True
             await self._ask_to_stop()
@@ -180,8 +192,10 @@ class Supervisor:
         return False
 
     async def restart(self) -> None:
-        """Start a fresh worker now (not counted as a crash)."""
-        if self.state == "running":
+        """Start a fresh worker now (not counted as a crash); a finished one starts again."""
+        if self.state == "finished":
+            self.start()
+        elif self.state == "running":
             self._restart_requested = True
             await self._ask_to_stop()
 
@@ -206,6 +220,11 @@ class Supervisor:
             cause = await self._life()
             if self._stop.is_set():
                 break
+            if self._finished is not None:
+                message, data = self._finished
+                self.state, self.restart_at = "finished", None
+                self.on_events([("finished", message, time.time_ns(), data)])
+                return
             if cause is None:  # a restart that was asked for
                 continue
             if cause[0] == "env_failed":  # building it again would fail the same way
@@ -231,7 +250,7 @@ class Supervisor:
         """Run one worker until it exits; why it exited (None: it was asked to)."""
         self.state = "starting"
         self._restart_requested = False
-        self._over_memory = self._hung = self._failure = None
+        self._over_memory = self._hung = self._failure = self._finished = None
         python = await self._interpreter()
         if not isinstance(python, str):
             return python
@@ -372,6 +391,8 @@ class Supervisor:
             out = unpack_batch(message)
             self.stats.samples_out += len(out)
             await self.on_output(out)
+        if "finished" in message:  # the worker ends now, normally
+            self._finished = (str(message["finished"][0]), dict(message["finished"][1]))
         if newest is not None and (self.processed_t is None or newest > self.processed_t):
             self.processed_t = newest  # answered, and its output handed on
         self.stats.latency_s.add(time.perf_counter() - arrived)
@@ -428,7 +449,7 @@ class Supervisor:
         self._room.set()
 
     def _cause(self, code: int | None) -> tuple[str, str, dict[str, Any]] | None:
-        if self._restart_requested or self._stop.is_set():
+        if self._restart_requested or self._stop.is_set() or self._finished is not None:
             return None
         tail = [line for _, line in list(self.logs)[-20:]]
         data: dict[str, Any] = {"exit_code": code, "log_tail": tail}

@@ -5,7 +5,8 @@ with one `out` frame. Anything the blueprint prints goes to stderr, which the su
 the processor's log. When the server goes away the channel closes and the worker exits; an
 exception from the blueprint is reported in a `failed` frame and the worker exits with status 3,
 so the supervisor restarts it from a clean state (a native FMU in an unknown state is never
-reused).
+reused). A blueprint that finished (`Context.finish`, an FMU that ended its simulation) has its
+last `out` frame say so; the worker then stops the blueprint and exits with status 0.
 """
 
 from __future__ import annotations
@@ -72,6 +73,9 @@ def serve(channel: BlockingChannel) -> int:
             if out is not None:
                 reply.update(pack_batch(out))
             channel.send(reply)
+            if "finished" in reply:  # done for good: end normally, the blueprint stopped
+                blueprint.stop()
+                return 0
         elif kind == "configure":
             try:
                 params = cls.Params.model_validate(message["params"])

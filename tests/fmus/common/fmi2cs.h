@@ -14,6 +14,10 @@
  *     static void model_outputs(Instance *c);               outputs from inputs (before get)
  *     static fmi2Status model_do_step(Instance *c, fmi2Real h);
  * Only Real variables exist. Errors are always logged; other messages only with logging on.
+ * A model may set c->terminated (fmi2GetBooleanStatus(fmi2Terminated) says it) and return
+ * fmi2Discard from model_do_step, with c->time where it stopped. A model that defines
+ * MODEL_REFUSE_INSTANCE implements static int model_refuse(Instance *probe): nonzero makes
+ * fmi2Instantiate fail (after the model logged why) and return NULL.
  */
 #ifndef TEST_FMI2CS_H
 #define TEST_FMI2CS_H
@@ -38,6 +42,7 @@ typedef struct {
     fmi2Boolean logging_on;
     Mode mode;
     fmi2Real time;
+    fmi2Boolean terminated;
     fmi2Real r[N_REALS];
 } Instance;
 
@@ -45,6 +50,9 @@ static void model_defaults(Instance *c);
 static int model_settable(fmi2ValueReference vr);
 static void model_outputs(Instance *c);
 static fmi2Status model_do_step(Instance *c, fmi2Real h);
+#ifdef MODEL_REFUSE_INSTANCE
+static int model_refuse(Instance *probe);
+#endif
 
 /* The message is formatted here and its '%' doubled: the logger treats it as a format. */
 static void log_message(const Instance *c, fmi2Status status, const char *category,
@@ -114,6 +122,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     memset(&probe, 0, sizeof probe);
     probe.cb = *functions;
     probe.name = (char *)instanceName;
+    probe.logging_on = loggingOn;
     if (fmuType != fmi2CoSimulation) {
         LOG_ERROR(&probe, "fmi2Instantiate: this FMU supports Co-Simulation only.");
         return NULL;
@@ -122,6 +131,9 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         LOG_ERROR(&probe, "fmi2Instantiate: wrong GUID.");
         return NULL;
     }
+#ifdef MODEL_REFUSE_INSTANCE
+    if (model_refuse(&probe)) return NULL;
+#endif
     c = (Instance *)calloc(1, sizeof(Instance));
     len = strlen(instanceName) + 1;
     if (c != NULL) c->name = (char *)malloc(len);
@@ -189,6 +201,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
     if (inst == NULL) return fmi2Error;
     inst->mode = MODE_INSTANTIATED;
     inst->time = 0.0;
+    inst->terminated = fmi2False;
     model_defaults(inst);
     return fmi2OK;
 }
@@ -442,7 +455,7 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Int
 
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
     if (c != NULL && s == fmi2Terminated && value != NULL) {
-        *value = fmi2False;
+        *value = ((Instance *)c)->terminated;
         return fmi2OK;
     }
     return unsupported(c, "fmi2GetBooleanStatus for this status kind");

@@ -52,7 +52,10 @@ class ProcessorView(BaseModel):
     memory_limit_mb: int
     batch_timeout_s: float
     enabled: bool
-    state: str = Field(description="starting, running, backoff, stopping, stopped or failed")
+    state: str = Field(
+        description="starting, running, backoff, stopping, stopped, failed or finished (the "
+        "model ended its simulation; started again by restart or update)"
+    )
     pid: int | None
     last_error: str | None
     restart_at: float | None = Field(description="Unix time (s) of the next start (backoff)")

@@ -5,7 +5,21 @@ from __future__ import annotations
 from typing import Any
 
 from ..fmuinfo import FmuVariable, Scalar
-from ._fmu_fmi import WARNING, FmiApi, FmuLog, fmi_failure, set_values
+from ._fmu_fmi import (
+    DISCARD,
+    TERMINATE,
+    WARNING,
+    FmiApi,
+    FmuLog,
+    Terminated,
+    fmi_failure,
+    set_values,
+)
+
+# A step the FMU discards without terminating is retried from where it got, in halves, at
+# most this many times before the FMU is taken to be stuck (FMI 2.0.4 section 4.2.2: after
+# fmi2Discard the master may go on with a smaller step).
+DISCARD_RETRIES = 20
 
 
 class Engine:
@@ -46,7 +60,36 @@ class CoSimulation(Engine):
         self._do_step = api.do_step
 
     def advance(self, t_end: float) -> None:
+        """Step to `t_end`; Terminated when the FMU ends the simulation on the way (its
+        outputs are then those at the time it ended)."""
         status = self._do_step(self.time, t_end - self.time)
-        if status > WARNING:
-            raise fmi_failure(f"{self.prefix}DoStep", status, self.log, f" at t = {self.time:g} s")
-        self.time = t_end
+        if status <= WARNING and not self.api.early_return:
+            self.time = t_end
+            return
+        self._unfinished(status, t_end)
+
+    def _unfinished(self, status: int, t_end: float) -> None:
+        """The step did not reach `t_end`: the FMU terminated, returned early (FMI 3) or
+        discarded it (FMI 2: the step was too large). Goes on from its last successful time,
+        with half the step when it got nowhere."""
+        h = t_end - self.time
+        for _ in range(DISCARD_RETRIES):
+            if status > WARNING and status not in (DISCARD, TERMINATE):
+                when = f" at t = {self.time:g} s"
+                raise fmi_failure(f"{self.prefix}DoStep", status, self.log, when)
+            if status <= WARNING and not self.api.early_return:  # this step was done
+                self.time = t_end if h >= t_end - self.time else self.time + h
+            else:
+                terminated, reached = self.api.discarded(self.time)
+                if reached > self.time:
+                    self.time = min(reached, t_end)
+                elif status == DISCARD:
+                    h /= 2
+                if terminated or status == TERMINATE:
+                    raise Terminated(self.time)
+            if self.time >= t_end:
+                return
+            h = min(h, t_end - self.time)
+            status = self._do_step(self.time, h)
+        message = f"{self.prefix}DoStep keeps discarding the step to t = {t_end:g} s"
+        raise fmi_failure(message, DISCARD, self.log, f" (stuck at t = {self.time:g} s)")

@@ -38,6 +38,8 @@ from ..fmuinfo import FLOAT_TYPES, INT_TYPES, FmuInfo, FmuVariable, Scalar
 STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 WARNING, DISCARD, ERROR, FATAL = 1, 2, 3, 4
 TERMINATE = 100  # not an FMI status: the FMU asked to end the simulation
+# fmi2StatusKind values (fmi2FunctionTypes.h)
+_FMI2_LAST_SUCCESSFUL_TIME, _FMI2_TERMINATED = 2, 3
 Raw = Callable[..., int]
 _V = ctypes.c_void_p
 _SZ = ctypes.c_size_t
@@ -52,10 +54,13 @@ class FmuLog:
         self.messages: deque[str] = deque(maxlen=keep)
         self.failed = 0  # the worst failing status seen (ERROR, FATAL...), 0 if none
         self.failure = ""  # the message of the first failure
+        # While instantiating, every message is kept whatever the level: an FMU that fails
+        # there (a Python FMU missing a module) often says why only at its info level.
+        self.instantiating = False
 
     def add(self, status: int, category: bytes | None, message: bytes | None) -> None:
         try:
-            if status < WARNING and self.level != "all":
+            if status < WARNING and self.level != "all" and not self.instantiating:
                 return
             label = STATUS[status] if 0 <= status < len(STATUS) else str(status)
             text = (message or b"").decode("utf-8", "replace").strip()
@@ -71,6 +76,17 @@ class FmuLog:
 
     def tail(self, n: int = 5) -> str:
         return " | ".join(list(self.messages)[-n:]) or "(no log message)"
+
+
+class Terminated(Exception):
+    """The FMU ended the simulation at FMU time `time` (FMI 2 fmi2Discard with
+    fmi2Terminated, FMI 3 terminateRequested). Not a failure: the step up to `time` is valid,
+    and the loops say in `rows` how many output rows they read, the last at `time`."""
+
+    def __init__(self, time: float) -> None:
+        super().__init__(f"the FMU asked to terminate at t = {time:g} s")
+        self.time = time
+        self.rows = 0
 
 
 def fmi_failure(function: str, status: int, log: FmuLog, when: str = "") -> BlueprintError:
@@ -138,7 +154,9 @@ def instantiate(
     fmi3 = info.fmi_version.startswith("3")
     classes = {"CoSimulation": (FMU2Slave, FMU3Slave), "ModelExchange": (FMU2Model, FMU3Model)}
     cls = classes[kind][1 if fmi3 else 0]
-    on = log.level == "all"
+    # Logging is on while instantiating, so an FMU that fails there can say why; it is
+    # turned off afterwards unless the level is "all".
+    on = True
     try:  # FMPy loads every function of the FMI version (and chdirs while loading)
         fmu = cls(
             guid=info.guid,
@@ -148,15 +166,22 @@ def instantiate(
         )
     except Exception as err:  # plain Exception, OSError, AttributeError for a missing function
         raise BlueprintError(f"cannot load the FMU's binary: {err}") from err
+    log.instantiating = True
     try:
         with fmi_errors(log):
             if fmi3:
                 fmu.instantiate(loggingOn=on, logMessage=log.fmi3_callback)
             else:
                 fmu.instantiate(callbacks=_fmi2_callbacks(log), loggingOn=on)
-    except BlueprintError:
+            if log.level != "all":
+                fmu.setDebugLogging(loggingOn=False, categories=[])
+    except BlueprintError as err:
         fmu.freeLibrary()
-        raise
+        for line in log.messages:  # the FMU's own words, in the processor's logs
+            log.logger.warning("FMU: %s", line)
+        raise BlueprintError(f"cannot instantiate the FMU: {err}") from err
+    finally:
+        log.instantiating = False
     api = Fmi3Api(fmu, kind) if fmi3 else Fmi2Api(fmu, kind)
     return fmu, api
 
@@ -211,6 +236,13 @@ class FmiApi:
     def do_step(self, t: float, h: float) -> int:
         raise NotImplementedError
 
+    def discarded(self, t: float) -> tuple[bool, float]:
+        raise NotImplementedError
+
+    @property
+    def early_return(self) -> bool:
+        return False
+
     # model exchange; names as FMPy's solvers expect them
     def set_time(self, t: float) -> int:
         return self._set_time(self.c, t)
@@ -262,6 +294,10 @@ class Fmi2Api(FmiApi):
         self._event_info = fmi2EventInfo()
         if kind == "CoSimulation":
             self._do_step = _bind(dll, "fmi2DoStep", _V, ctypes.c_double, ctypes.c_double, i)
+            self._bool_status = _bind(dll, "fmi2GetBooleanStatus", _V, i, _V)
+            self._real_status = _bind(dll, "fmi2GetRealStatus", _V, i, _V)
+            self._status_bool = i()
+            self._status_real = ctypes.c_double()
         else:
             self._bind_me(dll, "fmi2", "fmi2GetDerivatives")
             self._completed = _bind(dll, "fmi2CompletedIntegratorStep", _V, i, _V, _V)
@@ -269,6 +305,15 @@ class Fmi2Api(FmiApi):
 
     def do_step(self, t: float, h: float) -> int:
         return self._do_step(self.c, t, h, 1)
+
+    def discarded(self, t: float) -> tuple[bool, float]:
+        """After fmi2Discard: whether the FMU terminated, and its last successful time (`t`,
+        the step's start, when it cannot say)."""
+        b, r = self._status_bool, self._status_real
+        status = self._bool_status(self.c, _FMI2_TERMINATED, ctypes.addressof(b))
+        terminated = status <= WARNING and bool(b.value)
+        status = self._real_status(self.c, _FMI2_LAST_SUCCESSFUL_TIME, ctypes.addressof(r))
+        return terminated, (r.value if status <= WARNING else t)
 
     def completed_integrator_step(self) -> tuple[int, bool, bool]:
         f = self._flags
@@ -311,6 +356,15 @@ class Fmi3Api(FmiApi):
     def do_step(self, t: float, h: float) -> int:
         status = self._do_step(self.c, t, h, True, *self._step_args)
         return TERMINATE if status <= WARNING and self._flags[1] else status
+
+    def discarded(self, t: float) -> tuple[bool, float]:
+        """After fmi3DoStep: whether the FMU asked to terminate, and lastSuccessfulTime."""
+        return bool(self._flags[1]), float(self._time.value)
+
+    @property
+    def early_return(self) -> bool:
+        """Whether the last fmi3DoStep returned early (before the step's end)."""
+        return bool(self._flags[2])
 
     def completed_integrator_step(self) -> tuple[int, bool, bool]:
         a = self._flag_addrs

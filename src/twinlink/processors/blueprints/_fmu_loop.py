@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._fmu_cs import Engine
+from ._fmu_fmi import Terminated
 from ._fmu_io import OutputReader
 
 
@@ -25,7 +26,8 @@ def changed_rows(u: np.ndarray) -> np.ndarray:
 
 def run_samples(engine: Engine, reader: OutputReader, t: np.ndarray, u: np.ndarray) -> None:
     """For each sample: set its inputs, step from the previous sample time to its time (no
-    step if that is not later), read the outputs. One output row per sample."""
+    step if that is not later), read the outputs. One output row per sample; when the FMU
+    terminates, Terminated with the rows read, the last one at the FMU's end."""
     reader.target(len(t))
     set_inputs, advance, read = engine.set_inputs, engine.advance, reader.read
     base, stride = u.ctypes.data, u.strides[0]
@@ -33,7 +35,12 @@ def run_samples(engine: Engine, reader: OutputReader, t: np.ndarray, u: np.ndarr
         if changed:
             set_inputs(base + k * stride)
         if tk > engine.time:
-            advance(tk)
+            try:
+                advance(tk)
+            except Terminated as end:
+                read(k)
+                end.rows = k + 1
+                raise
         read(k)
 
 
@@ -42,7 +49,8 @@ def run_fixed(
 ) -> np.ndarray:
     """Steps of `h` on the grid n * h (n > `done` steps already taken) up to each sample time,
     holding the latest inputs; a sample's inputs apply from its time on. Returns the step
-    numbers taken; the reader has one output row per step, read at the step's end."""
+    numbers taken; the reader has one output row per step, read at the step's end. When the
+    FMU terminates, Terminated with the rows read, the last one at the FMU's end."""
     targets = np.floor(t / h + 1e-9).astype(np.int64) if len(t) else np.empty(0, np.int64)
     last = max(done, int(targets.max())) if len(t) else done
     reader.target(last - done)
@@ -54,7 +62,12 @@ def run_fixed(
     ):
         while step < target:
             step += 1
-            advance(step * h)
+            try:
+                advance(step * h)
+            except Terminated as end:
+                read(step - done - 1)
+                end.rows = step - done
+                raise
             read(step - done - 1)
         if changed:
             set_inputs(base + k * stride)

@@ -19,7 +19,7 @@ from pydantic import Field, field_validator, model_validator
 from ..blueprint import MAX_SPAN_S, Batch, Blueprint, BlueprintError, Context, Params
 from ..fmuinfo import FLOAT_TYPES, INT_TYPES, FmuError, FmuInfo, FmuVariable, Scalar, inspect_fmu
 from ._fmu_cs import CoSimulation, Engine
-from ._fmu_fmi import ERROR, FATAL, FmuLog, initialize, instantiate, value_for
+from ._fmu_fmi import ERROR, FATAL, FmuLog, Terminated, initialize, instantiate, value_for
 from ._fmu_io import InputGuard, OutputReader
 from ._fmu_loop import run_fixed, run_samples
 from ._fmu_me import ModelExchange
@@ -276,11 +276,30 @@ class FmuBlueprint(Blueprint[FmuParams]):
                 steps = run_fixed(run.engine, run.reader, h, run.steps, t, u)
                 run.steps += len(steps)
                 times = run.t0_ns + np.rint(steps * (h * 1e9)).astype(np.int64)
+        except Terminated as end:  # not a failure: what it made up to its end is kept
+            return self._finished(run, end, times)
         except BlueprintError as err:  # a half-done batch: this instance cannot go on
             run.log.failed = max(run.log.failed, ERROR)
             run.log.failure = run.log.failure or str(err)
             raise
         return Batch(times, run.reader.columns()) if len(times) else None
+
+    def _finished(self, run: _Run, end: Terminated, times: np.ndarray) -> Batch | None:
+        """The FMU ended the simulation: the rows up to its end, the last at its end time;
+        the worker then stops (terminating the FMU) and the processor is finished."""
+        assert run.t0_ns is not None and run.reader is not None
+        self.ctx.finish(f"the FMU finished: it asked to terminate at t = {end.time:g} s",
+                        fmu_time_s=end.time)  # fmt: skip
+        if self.params.step != "samples":
+            h = float(self.params.step_size_s or 0.0)
+            steps = np.arange(run.steps + 1, run.steps + end.rows + 1, dtype=np.int64)
+            run.steps += end.rows
+            times = run.t0_ns + np.rint(steps * (h * 1e9)).astype(np.int64)
+        times = np.array(times[: end.rows], dtype=np.int64)
+        if not len(times):
+            return None
+        times[-1] = run.t0_ns + round(end.time * 1e9)
+        return Batch(times, run.reader.columns(end.rows))
 
     def reconfigure(self, params: FmuParams) -> bool:
         """In place if only tunable `parameters` values or `out_of_range` change."""
