@@ -6,9 +6,11 @@ a requirement pip cannot install fails the processor once, with pip's words, not
 from __future__ import annotations
 
 import importlib.util
+import io
 import os
 import subprocess
 import sys
+import tarfile
 from pathlib import Path
 
 import pytest
@@ -25,7 +27,7 @@ from tests.integration._processors import (
     watching,
 )
 from tests.integration._processors import server as server  # module fixture
-from tests.integration._util import assert_problem
+from tests.integration._util import assert_problem, unique
 
 pytestmark = pytest.mark.integration
 
@@ -63,10 +65,28 @@ def logs(server: Server, slug: str, name: str) -> str:
     return "\n".join(line["text"] for line in r.json()["lines"])
 
 
-def tripler_spec(name: str, requirements: list[str] | None) -> dict[str, object]:
+def push_model(server: Server, name: str, files: dict[str, bytes]) -> None:
+    """Push `files` as version 1.0.0 of the library's common/models/<name> (a tar)."""
+    data = io.BytesIO()
+    with tarfile.open(fileobj=data, mode="w") as tar:
+        for path, content in files.items():
+            info = tarfile.TarInfo(path)
+            info.size = len(content)
+            tar.addfile(info, io.BytesIO(content))
+    with server.admin as admin:
+        r = admin.post(
+            f"/api/v1/library/common/models/{name}/versions",
+            params={"format": "tar", "tag": "1.0.0"}, content=data.getvalue(),
+        )  # fmt: skip
+    assert r.status_code in (200, 201), r.text
+
+
+def tripler_spec(
+    name: str, requirements: list[str] | None, fmu: str = "Tripler.fmu"
+) -> dict[str, object]:
     spec: dict[str, object] = {
         "name": name, "blueprint": "fmu", "inputs": {"x": "force"},
-        "params": {"fmu": "Tripler.fmu", "outputs": ["y"]},
+        "params": {"fmu": fmu, "outputs": ["y"]},
     }  # fmt: skip
     if requirements is not None:
         spec["python_requirements"] = requirements
@@ -135,3 +155,33 @@ def test_pip_options_are_refused_at_create(server: Server, requirement: str) -> 
         )  # fmt: skip
     problem = assert_problem(r, 422)
     assert "not a requirement" in str(problem)
+
+
+def test_a_library_model_brings_its_requirements_txt(server: Server, tripler: Path) -> None:
+    name = unique("tripler")
+    requirements = f"# the model's imports\n\n{REQUIREMENT}  # pure Python\n".encode()
+    push_model(server, name, {"fmu/Tripler.fmu": tripler.read_bytes(),
+                              "fmu/requirements.txt": requirements})  # fmt: skip
+    slug, [device] = device_twin(server)
+    create(server, slug, **tripler_spec("lib", None, f"lib:models/{name}@1.0.0#fmu/Tripler.fmu"))
+    wait_for(server, slug, "lib", lambda p: p["state"] == "running")
+    with watching(server, slug, "lib") as ws:
+        post(server, device, 1, [{"force": 0.0}, {"force": 10.0}])
+        got = samples_until(ws, lambda s: len(s) >= 2)
+    assert got[1]["values"]["y"] == 23.0
+
+
+def test_a_library_model_with_pip_options_in_requirements_txt_is_refused(
+    server: Server, tripler: Path
+) -> None:
+    name = unique("tripler")
+    options = b"--extra-index-url https://example.invalid\n"
+    push_model(server, name, {"Tripler.fmu": tripler.read_bytes(), "requirements.txt": options})
+    slug, _ = device_twin(server)
+    with server.admin as admin:
+        r = admin.post(
+            f"/api/v1/twins/{slug}/processors",
+            json=tripler_spec("lib", None, f"lib:models/{name}@1.0.0#Tripler.fmu"),
+        )
+    problem = assert_problem(r, 422)
+    assert "requirements.txt" in problem["detail"] and "line 1" in problem["detail"]

@@ -29,6 +29,7 @@ from pathlib import Path
 log = logging.getLogger("twinlink.processors")
 
 READY = "ready"
+REQUIREMENTS_FILE = "requirements.txt"  # beside an FMU in a library model asset
 PIP_TAIL_LINES = 20
 # What of the server's environment pip sees: where to find packages (a mirror, its
 # certificates, a proxy) and nothing else, so no TWINLINK_* setting or other secret reaches it.
@@ -40,6 +41,32 @@ PROXIES = ("HTTP_PROXY", "HTTPS_PROXY", "NO_PROXY", "http_proxy", "https_proxy",
 
 class EnvBuildError(Exception):
     """The env could not be built; the message ends with pip's last lines."""
+
+
+def requirement_problem(line: str) -> str | None:
+    """Why `line` is not one requirement (None: it is). One package each: pip options
+    (`-r`, `--index-url`, `--hash`) could point pip at any file or index."""
+    option = line.lstrip().startswith("-") or " -" in line or "\n" in line
+    if option or not line.strip() or len(line) > 300:
+        return (
+            f"{line!r} is not a requirement: give one package each, as `name==version` "
+            "(pip options and files are not allowed)"
+        )
+    return None
+
+
+def parse_requirements(text: str, where: str) -> list[str]:
+    """The requirements of a requirements.txt (comments and blank lines left out); ValueError
+    naming the line that is not one."""
+    found = []
+    for number, raw in enumerate(text.splitlines(), 1):
+        line = raw.split(" #", 1)[0].strip()
+        if not line or line.startswith("#"):
+            continue
+        if (problem := requirement_problem(line)) is not None:
+            raise ValueError(f"{where} line {number}: {problem}")
+        found.append(line)
+    return found
 
 
 def env_key(requirements: list[str]) -> str:

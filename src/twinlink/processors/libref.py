@@ -12,7 +12,7 @@ a twin's uploaded FMU: the blueprint sees a folder and a plain file name.
 from __future__ import annotations
 
 import logging
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 from typing import Any
 
 from twinlink.auth.rights import Principal
@@ -20,6 +20,7 @@ from twinlink.domain.errors import InvalidInputError, NotFoundError, TwinlinkErr
 from twinlink.domain.library import parse_ref
 from twinlink.domain.records import ProcessorRecord
 from twinlink.library.service import LibraryService, Resolved
+from twinlink.processors.fmuenv import REQUIREMENTS_FILE, parse_requirements
 from twinlink.processors.fmurules import check_fmu_params
 
 log = logging.getLogger("twinlink.processors")
@@ -66,6 +67,8 @@ class LibraryFmus:
         self.library = library
         self._files: dict[int, Path] = {}  # processor id -> the blob its worker runs
         self._twins: dict[int, int] = {}  # processor id -> its twin, for those using one
+        # processor id -> the requirements.txt beside its FMU (a Python FMU's env, fmuenv.py)
+        self._requirements: dict[int, list[str]] = {}
 
     async def open(self, records: list[ProcessorRecord]) -> None:
         self._twins = {r.id: r.twin_id for r in records if lib_ref(_params(r)) is not None}
@@ -91,6 +94,7 @@ class LibraryFmus:
                 "checked at push (push it as a .fmu file)"
             )
         check_variables(params, info, resolved.pinned)
+        await _requirements(self.library, resolved)  # a bad requirements.txt is a 422 now
         params[PARAM] = resolved.pinned
         return resolved
 
@@ -118,9 +122,11 @@ class LibraryFmus:
         for record in records:
             ref = lib_ref(_params(record))
             self._files.pop(record.id, None)
+            self._requirements.pop(record.id, None)
             if ref is not None and self.library is not None:
                 try:
                     self._files[record.id] = await self._local(self.library, ref)
+                    self._requirements[record.id] = await self._wanted(self.library, ref)
                 except TwinlinkError as err:  # its worker then fails to start, saying so
                     log.warning(
                         "processor %s/%s: its library FMU %s is not available: %s",
@@ -147,6 +153,21 @@ class LibraryFmus:
             raise InvalidInputError(f"params.fmu: {ref} is not an FMU the library checked")
         return info, ref
 
+    def requirements(self, processor_id: int) -> list[str]:
+        """The requirements.txt beside the processor's library FMU (none: [])."""
+        return self._requirements.get(processor_id, [])
+
+    @staticmethod
+    async def _wanted(library: LibraryService, ref: str) -> list[str]:
+        parsed = parse_ref(ref)
+        if parsed.scope is None or parsed.kind is None or parsed.ref is None:
+            return []
+        asset = await library.store.get_asset(parsed.scope, parsed.kind, parsed.name)
+        if asset is None:
+            return []
+        version = await library.version_of(asset, parsed.ref)
+        return await _requirements(library, Resolved(asset, version, parsed.path))
+
     @staticmethod
     async def _local(library: LibraryService, ref: str) -> Path:
         parsed = parse_ref(ref)
@@ -169,6 +190,20 @@ class LibraryFmus:
         if local is None:  # not found (logged when looked for): the worker says it is missing
             return {**params, PARAM: "library-fmu-not-available.fmu"}, files
         return {**params, PARAM: local.name}, local.parent
+
+
+async def _requirements(library: LibraryService, resolved: Resolved) -> list[str]:
+    """The requirements.txt in the FMU's folder of its version, if there is one."""
+    if resolved.path is None:
+        return []
+    wanted = str(PurePosixPath(resolved.path).parent / REQUIREMENTS_FILE).removeprefix("./")
+    if not any(f.path == wanted for f in resolved.version.files):
+        return []
+    text = await library.read_text(resolved, wanted)
+    try:
+        return parse_requirements(text, f"{wanted} of {resolved.pinned}")
+    except ValueError as err:
+        raise InvalidInputError(f"params.fmu: {err}") from err
 
 
 def _params(record: ProcessorRecord) -> dict[str, Any]:

@@ -368,6 +368,8 @@ class ProcessorService:
         spec = spec_of(record)
         files = self.data_dir / "fmus" / str(record.twin_id)
         params, files = self.lib.worker_files(record.id, spec.params, files)
+        # a Python FMU's own env: its processor's requirements, and its library asset's
+        wanted = [*spec.python_requirements, *self.lib.requirements(record.id)]
         return WorkerConfig(
             processor_id=record.id,
             name=record.name,
@@ -380,11 +382,7 @@ class ProcessorService:
             workdir=self.data_dir / "processors" / str(record.id),
             memory_limit_bytes=spec.memory_limit_mb * 2**20,
             batch_timeout_s=spec.batch_timeout_s,
-            interpreter=(
-                partial(self.envs.python, spec.python_requirements)
-                if spec.python_requirements
-                else None
-            ),
+            interpreter=partial(self.envs.python, wanted) if wanted else None,
         )
 
     def _record_events(self, record: ProcessorRecord, events: list[EventTuple]) -> None:

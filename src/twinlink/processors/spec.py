@@ -7,6 +7,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from twinlink.domain.samples import SIGNAL_NAME, STREAM_NAME
+from twinlink.processors.fmuenv import requirement_problem
 
 PROCESSOR_NAME = STREAM_NAME
 MAX_SPACING_S = 24 * 3600.0  # a day; a rate limit longer than that is a unit mistake
@@ -101,13 +102,9 @@ class ProcessorSpec(BaseModel):
     @field_validator("python_requirements")
     @classmethod
     def _requirements(cls, value: list[str]) -> list[str]:
-        for line in value:  # one requirement each: pip options could point pip anywhere
-            option = line.lstrip().startswith("-") or " -" in line or "\n" in line
-            if option or not line.strip() or len(line) > 300:
-                raise ValueError(
-                    f"{line!r} is not a requirement: give one package each, as "
-                    "`name==version` (pip options and files are not allowed)"
-                )
+        for line in value:
+            if (problem := requirement_problem(line)) is not None:
+                raise ValueError(problem)
         return [line.strip() for line in value]
 
     @field_validator("output")
