@@ -139,6 +139,15 @@ def test_a_requirement_pip_cannot_install_fails_the_processor_once(
     assert failed["stats"]["restarts"] == 0 and failed["pid"] is None
     [event] = events(server, slug, "unbuildable", "failed")
     assert "pip install failed" in event["message"]
+    # Given requirements pip can install, it starts again (with the env built before).
+    with server.admin as admin:
+        r = admin.patch(
+            f"/api/v1/twins/{slug}/processors/unbuildable",
+            json={"python_requirements": [REQUIREMENT]},
+        )
+    assert r.status_code == 200, r.text
+    again = wait_for(server, slug, "unbuildable", lambda p: p["state"] == "running")
+    assert again["stats"]["crashes"] == 0
 
 
 @pytest.mark.parametrize(

@@ -23,12 +23,14 @@ import shutil
 import site
 import sys
 import sysconfig
+import time
 from collections.abc import Callable
 from pathlib import Path
 
 log = logging.getLogger("twinlink.processors")
 
 READY = "ready"
+RETRY_AFTER_S = 60.0  # a failed build fails again at once until then (no pip storm)
 REQUIREMENTS_FILE = "requirements.txt"  # beside an FMU in a library model asset
 PIP_TAIL_LINES = 20
 # What of the server's environment pip sees: where to find packages (a mirror, its
@@ -97,7 +99,7 @@ class FmuEnvs:
         self.root = root
         self.build_timeout_s = build_timeout_s
         self._locks: dict[str, asyncio.Lock] = {}
-        self._failed: dict[str, str] = {}  # key -> why its build failed (not tried again)
+        self._failed: dict[str, tuple[str, float]] = {}  # key -> why its build failed, when
 
     def python_of(self, requirements: list[str]) -> Path:
         return self.root / env_key(requirements) / "bin" / "python"
@@ -110,13 +112,15 @@ class FmuEnvs:
     ) -> Path:
         """The interpreter of the env for `requirements`, built first if need be (`building`
         is told the key when a build starts). Concurrent callers for one env wait for one
-        build; a build that failed fails again at once, with the same message, until the
-        server restarts or the requirements change."""
+        build; a build that failed fails again at once, with the same message, for
+        RETRY_AFTER_S (the processors that waited for it, a restart right after)."""
         key = env_key(requirements)
         lock = self._locks.setdefault(key, asyncio.Lock())
         async with lock:
-            if key in self._failed:
-                raise EnvBuildError(self._failed[key])
+            failed = self._failed.pop(key, None)
+            if failed is not None and time.monotonic() - failed[1] < RETRY_AFTER_S:
+                self._failed[key] = failed
+                raise EnvBuildError(failed[0])
             folder = self.root / key
             if not (folder / READY).is_file():
                 if building is not None:
@@ -124,7 +128,7 @@ class FmuEnvs:
                 try:
                     await self._build(folder, requirements)
                 except EnvBuildError as err:
-                    self._failed[key] = str(err)
+                    self._failed[key] = (str(err), time.monotonic())
                     raise
             return folder / "bin" / "python"
 

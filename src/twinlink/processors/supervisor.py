@@ -173,7 +173,7 @@ class Supervisor:
     async def reconfigure(self, config: WorkerConfig, params_only: bool) -> bool:
         """Use `config` from now on. True when the running worker kept its state."""
         self.config = config
-        if self.state == "finished":  # changed: it starts again, from the start
+        if self.state in ("finished", "failed"):  # changed: it starts again, from the start
             self.start()
             return False
         if self.state == "starting":  # it may have been sent the config before: start anew
@@ -192,8 +192,9 @@ class Supervisor:
         return False
 
     async def restart(self) -> None:
-        """Start a fresh worker now (not counted as a crash); a finished one starts again."""
-        if self.state == "finished":
+        """Start a fresh worker now (not counted as a crash); a finished one (or one whose
+        Python env could not be built) starts again."""
+        if self.state in ("finished", "failed"):
             self.start()
         elif self.state == "running":
             self._restart_requested = True
