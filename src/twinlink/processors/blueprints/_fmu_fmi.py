@@ -170,7 +170,9 @@ def instantiate(
     try:
         with fmi_errors(log):
             if fmi3:
-                fmu.instantiate(loggingOn=on, logMessage=log.fmi3_callback)
+                # early return is handled (CoSimulation goes on from lastSuccessfulTime)
+                early = {"earlyReturnAllowed": True} if kind == "CoSimulation" else {}
+                fmu.instantiate(loggingOn=on, logMessage=log.fmi3_callback, **early)
             else:
                 fmu.instantiate(callbacks=_fmi2_callbacks(log), loggingOn=on)
             if log.level != "all":
