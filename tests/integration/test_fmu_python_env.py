@@ -96,7 +96,8 @@ def tripler_spec(
 def test_a_python_fmu_runs_in_its_own_env_built_once(server: Server, tripler: Path) -> None:
     slug, [device] = device_twin(server)
     upload(server, slug, tripler)
-    create(server, slug, **tripler_spec("tripler", [REQUIREMENT]))
+    made = create(server, slug, **tripler_spec("tripler", [REQUIREMENT]))
+    assert made["python_requirements"] == [REQUIREMENT]
     wait_for(server, slug, "tripler", lambda p: p["state"] == "running")
     [building] = events(server, slug, "tripler", "env_building")
     assert len(events(server, slug, "tripler", "env_ready")) == 1

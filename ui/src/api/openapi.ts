@@ -2909,6 +2909,11 @@ export interface components {
             };
             rates?: components["schemas"]["Rates"];
             /**
+             * Python Requirements
+             * @description pip requirements (`more-itertools==10.7.0`) of a Python FMU: the worker runs in a virtualenv of its own made from them (docs/processors.md) [none: the server's Python]
+             */
+            python_requirements?: string[];
+            /**
              * Memory Limit Mb
              * @description the worker is restarted when its RSS is above this
              * @default 1024
@@ -2973,6 +2978,11 @@ export interface components {
                 [key: string]: unknown;
             };
             rates: components["schemas"]["Rates"];
+            /**
+             * Python Requirements
+             * @description pip requirements of its own Python env, if any
+             */
+            python_requirements?: string[];
             /** Memory Limit Mb */
             memory_limit_mb: number;
             /** Batch Timeout S */
@@ -2981,7 +2991,7 @@ export interface components {
             enabled: boolean;
             /**
              * State
-             * @description starting, running, backoff, stopping, stopped or failed
+             * @description starting, running, backoff, stopping, stopped, failed or finished (the model ended its simulation; started again by restart or update)
              */
             state: string;
             /** Pid */

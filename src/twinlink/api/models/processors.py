@@ -49,6 +49,9 @@ class ProcessorView(BaseModel):
     inputs: dict[str, InputMap | str]
     params: dict[str, Any]
     rates: Rates
+    python_requirements: list[str] = Field(
+        default_factory=list, description="pip requirements of its own Python env, if any"
+    )
     memory_limit_mb: int
     batch_timeout_s: float
     enabled: bool
