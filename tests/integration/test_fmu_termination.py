@@ -131,3 +131,24 @@ def test_a_finished_processor_stays_finished_across_a_restart_until_restarted(
         assert len(events(srv, slug, "stair", "finished")) == 2
     finally:
         stop_server(srv)
+
+
+@pytest.mark.parametrize("version", ["stair", "stair3"])
+def test_on_a_fixed_step_grid_the_steps_up_to_the_end_are_written(
+    server: Server, fmu_files: FmuFiles, version: str
+) -> None:
+    slug, [device] = device_twin(server)
+    upload(server, slug, fmu_files(version), "Stair.fmu")
+    create(server, slug, name="stair", blueprint="fmu",
+           params={"fmu": "Stair.fmu", "outputs": ["counter"], "step": "fixed",
+                   "step_size_s": 0.4})  # fmt: skip
+    wait_for(server, slug, "stair", lambda p: p["state"] == "running")
+    with watching(server, slug, "stair") as ws:
+        post_all(server, device, "one")  # up to 13.3 s
+        got = samples_until(ws, lambda s: len(s) >= 23)
+    # steps of 0.4 s to 8.8 s (22 steps), then the step to 9.2 s ends at 9 s
+    t_s = [n * 0.4 for n in range(1, 23)] + [9.0]
+    assert [s["time"] for s in got] == [T0 + round(t * 1e9) for t in t_s]
+    assert [s["values"]["counter"] for s in got] == [1.0 + math.floor(t + 1e-9) for t in t_s]
+    view = wait_for(server, slug, "stair", lambda p: p["state"] == "finished")
+    assert view["stats"]["samples_out"] == 23 and view["stats"]["restarts"] == 0

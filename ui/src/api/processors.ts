@@ -36,7 +36,7 @@ export interface JsonSchema {
 
 export type Blueprint = Omit<Schemas["Blueprint"], "params_schema"> & { params_schema?: JsonSchema | null };
 
-export type ProcessorState = "starting" | "running" | "backoff" | "stopping" | "stopped" | "failed" | string;
+export type ProcessorState = "starting" | "running" | "backoff" | "stopping" | "stopped" | "failed" | "finished" | string;
 
 export type InputMap = Schemas["InputMap"];
 
