@@ -53,6 +53,8 @@ FMI2_TYPED = """<?xml version="1.0" encoding="UTF-8"?>
       <Real start="9.81"/></ScalarVariable>
     <ScalarVariable name="k2" valueReference="9" causality="calculatedParameter"
       variability="fixed" initial="calculated"><Real/></ScalarVariable>
+    <ScalarVariable name="txt" valueReference="10" causality="input" variability="discrete">
+      <String start=""/></ScalarVariable>
   </ModelVariables>
   <ModelStructure>
     <Outputs><Unknown index="2" dependencies="1"/><Unknown index="8"/></Outputs>
@@ -145,7 +147,7 @@ def twin3(server: Server, fmu_files: FmuFiles, tmp_path_factory: pytest.TempPath
         (fmu({"fmu": "status.fmu"}, inputs={"uu": "x"}), ["inputs: uu", "it streams: u"]),
         (fmu({"fmu": "status.fmu", "parameters": {"y": 1.0}}), ["y", "calculated by the FMU"]),
         (fmu({"fmu": "typed2.fmu", "outputs": ["label"]}), ["label", "type String"]),
-        (fmu({"fmu": "typed2.fmu", "inputs": ["n"]}), ["n", "type Integer"]),
+        (fmu({"fmu": "typed2.fmu", "inputs": ["txt"]}), ["txt", "type String"]),
         (fmu({"fmu": "typed2.fmu", "parameters": {"g": 1.0}}), ["g", "constant"]),
         (fmu({"fmu": "typed2.fmu", "parameters": {"k2": 1.0}}), ["k2", "calculatedParameter"]),
         (fmu({"fmu": "typed2.fmu", "parameters": {"count": 11}}), ["count", "range [0, 10]"]),

@@ -29,8 +29,10 @@ INT_RANGES: dict[str, tuple[int, int]] = {
     "UInt64": (0, 2**64 - 1),
 }
 FLOAT32_MAX = 3.4028234663852886e38
-STREAMED_TYPES = frozenset({"Real", "Float64"})  # inputs the worker sets from live signals
-OUTPUT_TYPES = FLOAT_TYPES | set(INT_RANGES) | {"Enumeration", "Boolean"}
+# Inputs the worker sets from live signals (converted from the signals' floats, range-checked
+# with the out_of_range policy: blueprints/_fmu_io.py), and what it can write as outputs.
+STREAMED_TYPES = FLOAT_TYPES | set(INT_RANGES) | {"Enumeration", "Boolean"}
+OUTPUT_TYPES = STREAMED_TYPES
 
 
 def check_fmu_params(
@@ -92,7 +94,7 @@ def _why_not_streamed(var: dict[str, Any]) -> str | None:
     if var.get("shape"):
         return "it is an array; only scalar inputs can be streamed"
     if var.get("type") not in STREAMED_TYPES:
-        return f"it is of type {var.get('type')}; only Real/Float64 inputs are streamed"
+        return f"it is of type {var.get('type')}, which a live signal cannot be set into"
     return None
 
 

@@ -15,6 +15,7 @@ from ._fmu_fmi import (
     fmi_failure,
     set_values,
 )
+from ._fmu_io import InputSetter
 
 # A step the FMU discards without terminating is retried from where it got, in halves, at
 # most this many times before the FMU is taken to be stuck (FMI 2.0.4 section 4.2.2: after
@@ -31,7 +32,8 @@ class Engine:
         self.log = log
         self.time = 0.0
         self.prefix = api.prefix
-        self._set = api.accessor("Set", api.REAL, [v.value_reference for v in inputs])
+        self.setter = InputSetter(api, inputs)  # inputs of other types: _fmu_io.py
+        self._set = self.setter.call
 
     def begin(self) -> None:
         """Called once after exitInitializationMode."""
@@ -40,7 +42,7 @@ class Engine:
         """Set all inputs from the doubles at address `values_at`."""
         status = self._set(values_at)
         if status > WARNING:
-            name = self.api.function("Set", self.api.REAL)
+            name = self.setter.name
             raise fmi_failure(name, status, self.log, f" at t = {self.time:g} s")
 
     def advance(self, t_end: float) -> None:

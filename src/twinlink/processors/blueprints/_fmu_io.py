@@ -3,14 +3,84 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
 from ..blueprint import Context
-from ..fmuinfo import FmuVariable
+from ..fmuinfo import FLOAT_TYPES, FmuVariable
+from ..fmurules import INT_RANGES
 from ._fmu_fmi import WARNING, FmiApi, FmuLog, fmi_failure
 
 NS = 1_000_000_000
+
+
+def input_range(var: FmuVariable, fmi3: bool) -> tuple[float, float]:
+    """The values an input can take: its declared min/max, within its type's range (an
+    integer outside it would wrap around in the FMU; an enumeration's declared items)."""
+    low = var.min if var.min is not None else -math.inf
+    high = var.max if var.max is not None else math.inf
+    if var.type == "Boolean":
+        return max(low, 0.0), min(high, 1.0)
+    if var.type == "Enumeration":
+        if var.items:
+            values = [v for _, v in var.items]
+            return max(low, min(values)), min(high, max(values))
+        type_low, type_high = INT_RANGES["Int64" if fmi3 else "Integer"]
+        return max(low, type_low), min(high, type_high)
+    if var.type in INT_RANGES:
+        type_low, type_high = INT_RANGES[var.type]
+        return max(low, type_low), min(high, type_high)
+    return low, high
+
+
+class InputSetter:
+    """Sets a row of the (samples, inputs) float64 array into the FMU's inputs.
+
+    Real/Float64 inputs alone (the usual case) are set straight from the row's address, as
+    before. Inputs of other types are converted a batch at a time (`bind`, vectorized:
+    integers rounded, booleans nonzero) into one array per type, and a row is set with one
+    FMI call per type, so no value is converted per sample."""
+
+    def __init__(self, api: FmiApi, inputs: list[FmuVariable]) -> None:
+        self.api = api
+        types = sorted({v.type for v in inputs}, key=lambda t: t != api.REAL)
+        self.name = api.function("Set", types[0] if types else api.REAL)
+        self.direct = not types or types == [api.REAL]
+        self._groups = []
+        for type_ in types:
+            columns = [j for j, v in enumerate(inputs) if v.type == type_]
+            vrs = [inputs[j].value_reference for j in columns]
+            dtype = np.dtype(api.DTYPES[type_])
+            self._groups.append((api.accessor("Set", type_, vrs), columns, dtype, type_))
+        self.call = self._groups[0][0] if self.direct and types else self._set
+        self._base, self._stride = 0, 1
+        self._bound: list[tuple[Callable[[int], int], int, int, np.ndarray, str]] = []
+
+    def bind(self, u: np.ndarray) -> None:
+        """Convert the batch `u` (C-contiguous) the next calls take rows of."""
+        if self.direct:
+            return
+        self._base, self._stride = u.ctypes.data, max(u.strides[0], 1)
+        self._bound = []
+        for set_, columns, dtype, type_ in self._groups:
+            values = u[:, columns]
+            if type_ == "Boolean":
+                typed = np.ascontiguousarray(values != 0, dtype=dtype)
+            elif type_ in FLOAT_TYPES:
+                typed = np.ascontiguousarray(values, dtype=dtype)
+            else:  # in range (InputGuard), so the cast is exact
+                typed = np.ascontiguousarray(np.rint(values), dtype=dtype)
+            self._bound.append((set_, typed.ctypes.data, typed.strides[0], typed, type_))
+
+    def _set(self, values_at: int) -> int:
+        k = (values_at - self._base) // self._stride
+        worst = 0
+        for set_, base, stride, _, type_ in self._bound:
+            status = set_(base + k * stride)
+            if status > worst:  # the function named if it fails
+                worst, self.name = status, self.api.function("Set", type_)
+        return worst
 
 
 class InputGuard:
@@ -22,11 +92,17 @@ class InputGuard:
     """
 
     def __init__(
-        self, inputs: list[FmuVariable], held: list[float], mode: str, ctx: Context
+        self,
+        inputs: list[FmuVariable],
+        held: list[float],
+        mode: str,
+        ctx: Context,
+        fmi3: bool = False,
     ) -> None:
         self.names = [v.name for v in inputs]
-        self.low = [v.min if v.min is not None else -math.inf for v in inputs]
-        self.high = [v.max if v.max is not None else math.inf for v in inputs]
+        ranges = [input_range(v, fmi3) for v in inputs]
+        self.low = [low for low, _ in ranges]
+        self.high = [high for _, high in ranges]
         self.held = np.array(held, dtype=np.float64)
         self.mode = mode
         self.ctx = ctx

@@ -18,6 +18,7 @@ from pydantic import Field, field_validator, model_validator
 
 from ..blueprint import MAX_SPAN_S, Batch, Blueprint, BlueprintError, Context, Params
 from ..fmuinfo import FLOAT_TYPES, INT_TYPES, FmuError, FmuInfo, FmuVariable, Scalar, inspect_fmu
+from ..fmurules import STREAMED_TYPES
 from ._fmu_cs import CoSimulation, Engine
 from ._fmu_fmi import ERROR, FATAL, FmuLog, Terminated, initialize, instantiate, value_for
 from ._fmu_io import InputGuard, OutputReader
@@ -137,7 +138,7 @@ class FmuBlueprint(Blueprint[FmuParams]):
         chosen = self._variables(self.params.inputs, "inputs")
         wrong = [f"{v.name} ({v.causality} {v.type})" for v in chosen if not _is_input(v)]
         if wrong:
-            raise BlueprintError(f"not Real/Float64 scalar inputs: {', '.join(wrong)}")
+            raise BlueprintError(f"not scalar inputs of a number type: {', '.join(wrong)}")
         return chosen
 
     def _output_vars(self) -> list[FmuVariable]:
@@ -252,8 +253,8 @@ class FmuBlueprint(Blueprint[FmuParams]):
             self.stop()
             raise
         held = {var.name: float(value) for var, value in before if var in inputs}
-        start = [held.get(v.name, v.start if isinstance(v.start, float) else 0.0) for v in inputs]
-        run.guard = InputGuard(inputs, start, p.out_of_range, self.ctx)
+        start = [held.get(v.name, _number(v.start)) for v in inputs]
+        run.guard = InputGuard(inputs, start, p.out_of_range, self.ctx, api.fmi3)
 
     def process(self, batch: Batch) -> Batch | None:
         run = self._run
@@ -265,6 +266,7 @@ class FmuBlueprint(Blueprint[FmuParams]):
         times, u = run.guard.condition(batch.times, columns)
         if len(times) == 0:
             return None
+        run.engine.setter.bind(u)  # inputs other than Real/Float64, converted once a batch
         if run.t0_ns is None:
             run.t0_ns = int(times[0])
         t = (times - run.t0_ns) * 1e-9
@@ -344,7 +346,12 @@ class FmuBlueprint(Blueprint[FmuParams]):
 
 
 def _is_input(v: FmuVariable) -> bool:
-    return v.causality == "input" and v.type in {"Real", "Float64"} and not v.shape
+    return v.causality == "input" and v.type in STREAMED_TYPES and not v.shape
+
+
+def _number(start: Scalar | None) -> float:
+    """An input's start value as the float its signal holds until a sample comes."""
+    return float(start) if isinstance(start, int | float) else 0.0
 
 
 def _is_number(v: FmuVariable) -> bool:
