@@ -8,6 +8,9 @@ from typing import Any
 import pytest
 
 from twinlink.domain.errors import InvalidInputError
+from twinlink.processors.blueprint import BlueprintError
+from twinlink.processors.blueprints._fmu_fmi import value_for
+from twinlink.processors.fmuinfo import FmuVariable
 from twinlink.processors.fmurules import check_fmu_params, value_problem
 
 
@@ -100,3 +103,12 @@ def test_params_the_fmu_cannot_run_are_refused(
 
 def test_start_values_of_inputs_and_exact_locals_may_be_set() -> None:
     check_fmu_params({"parameters": {"u": 1.0, "s": 2.0}}, ["u", "v"], INFO, "m.fmu")
+
+
+@pytest.mark.parametrize(("type_", "value"), [("UInt8", 300), ("UInt32", -1), ("Integer", 2**31)])
+def test_the_worker_refuses_what_would_wrap_around(type_: str, value: int) -> None:
+    """A processor stored before these checks: its worker refuses the value, not wraps it."""
+    variable = FmuVariable("a", 1, "parameter", "fixed", type_, initial="exact")
+    with pytest.raises(BlueprintError, match=f"outside the range of {type_}"):
+        value_for(variable, value)
+    assert value_for(variable, 1) == 1

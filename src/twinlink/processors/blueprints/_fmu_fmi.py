@@ -34,6 +34,7 @@ from fmpy.logging import addLoggerProxy  # type: ignore[import-untyped]
 
 from ..blueprint import BlueprintError
 from ..fmuinfo import FLOAT_TYPES, INT_TYPES, FmuInfo, FmuVariable, Scalar
+from ..fmurules import INT_RANGES
 
 STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 WARNING, DISCARD, ERROR, FATAL = 1, 2, 3, 4
@@ -400,6 +401,9 @@ def _convert(var: FmuVariable, value: Scalar) -> Scalar:
         number = float(value)
         if number != int(number):
             raise ValueError("not a whole number")
+        low, high = INT_RANGES.get(var.type, (int(number), int(number)))
+        if not low <= int(number) <= high:  # the FMU would wrap it around (UInt8 300 -> 44)
+            raise ValueError(f"outside the range of {var.type} [{low}, {high}]")
         return int(number)
     if var.type == "Boolean":
         if isinstance(value, str):
