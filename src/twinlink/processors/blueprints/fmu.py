@@ -31,7 +31,7 @@ OUTPUT_TYPES = FLOAT_TYPES | INT_TYPES | {"Boolean"}
 class FmuParams(Params):
     fmu: str = Field(description="File name of an uploaded FMU (no folders).")
     inputs: list[str] | None = Field(
-        None, description="FMU inputs to feed (Real/Float64); default: all of them."
+        None, description="FMU inputs to feed (numbers, Boolean, Enumeration); default: all."
     )
     outputs: list[str] | None = Field(
         None, description="FMU variables to output; default: all numeric outputs."

@@ -291,7 +291,7 @@ export const fmuBlueprint: Blueprint = {
      }
     ],
     "default": null,
-    "description": "FMU inputs to feed (Real/Float64); default: all of them.",
+    "description": "FMU inputs to feed (numbers, Boolean, Enumeration); default: all.",
     "title": "Inputs"
    },
    "outputs": {
