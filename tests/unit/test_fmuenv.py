@@ -3,12 +3,13 @@ server's environment pip sees, and the requirements a processor may ask for."""
 
 from __future__ import annotations
 
+import asyncio
 from pathlib import Path
 
 import pytest
 from pydantic import ValidationError
 
-from twinlink.processors.fmuenv import EnvBuildError, FmuEnvs, env_key, pip_environment
+from twinlink.processors.fmuenv import READY, EnvBuildError, FmuEnvs, env_key, pip_environment
 from twinlink.processors.spec import ProcessorSpec
 
 
@@ -46,3 +47,28 @@ async def test_a_build_past_its_time_fails_and_fails_again_at_once(tmp_path: Pat
     with pytest.raises(EnvBuildError, match="took longer"):  # not built again
         await envs.python(["more-itertools==10.7.0"], started.append)
     assert len(started) == 1
+
+
+async def test_two_server_processes_build_one_env_once(tmp_path: Path) -> None:
+    """Two FmuEnvs on one folder stand for two server processes on one data dir: the second
+    waits on the first's file lock, then finds the env ready."""
+    builds: list[Path] = []
+    release = asyncio.Event()
+
+    async def build(folder: Path, requirements: list[str]) -> None:
+        builds.append(folder)
+        await release.wait()
+        (folder / "bin").mkdir(parents=True)
+        (folder / READY).write_text("{}\n")
+
+    first, second = FmuEnvs(tmp_path), FmuEnvs(tmp_path)
+    first._build = second._build = build  # type: ignore[method-assign]
+    both = asyncio.gather(first.python(["a==1"]), second.python(["a==1"]))
+    for _ in range(1000):  # until one builds (the other waits on the lock), at most 10 s
+        if builds:
+            break
+        await asyncio.sleep(0.01)
+    release.set()
+    one, two = await both
+    assert one == two == tmp_path / env_key(["a==1"]) / "bin" / "python"
+    assert len(builds) == 1

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import fcntl
 import hashlib
 import json
 import logging
@@ -24,12 +25,13 @@ import site
 import sys
 import sysconfig
 import time
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
 from pathlib import Path
 
 log = logging.getLogger("twinlink.processors")
 
 READY = "ready"
+LOCK_POLL_S = 0.5
 RETRY_AFTER_S = 60.0  # a failed build fails again at once until then (no pip storm)
 REQUIREMENTS_FILE = "requirements.txt"  # beside an FMU in a library model asset
 PIP_TAIL_LINES = 20
@@ -125,11 +127,13 @@ class FmuEnvs:
             if not (folder / READY).is_file():
                 if building is not None:
                     building(key)
-                try:
-                    await self._build(folder, requirements)
-                except EnvBuildError as err:
-                    self._failed[key] = (str(err), time.monotonic())
-                    raise
+                async with _file_lock(self.root / f"{key}.lock"):  # other server processes
+                    if not (folder / READY).is_file():
+                        try:
+                            await self._build(folder, requirements)
+                        except EnvBuildError as err:
+                            self._failed[key] = (str(err), time.monotonic())
+                            raise
             return folder / "bin" / "python"
 
     async def _build(self, folder: Path, requirements: list[str]) -> None:
@@ -154,6 +158,24 @@ class FmuEnvs:
             self.build_timeout_s,
         )  # fmt: skip
         (folder / READY).write_text(json.dumps({"requirements": requirements}) + "\n")
+
+
+@contextlib.asynccontextmanager
+async def _file_lock(path: Path) -> AsyncIterator[None]:
+    """An exclusive lock on `path` across processes (`--workers N`, nodes on one data dir),
+    polled so that waiting for it can be cancelled."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("a") as file:
+        while True:
+            try:
+                fcntl.flock(file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                await asyncio.sleep(LOCK_POLL_S)
+        try:
+            yield
+        finally:
+            fcntl.flock(file, fcntl.LOCK_UN)
 
 
 async def _run(command: list[str], what: str, timeout_s: float | None = None) -> None:
