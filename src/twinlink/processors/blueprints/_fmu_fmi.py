@@ -8,6 +8,7 @@ FMI status into a `BlueprintError`; `fmi_errors` does the same for FMPy's except
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import functools
 import logging
@@ -176,8 +177,6 @@ def instantiate(
                 fmu.instantiate(loggingOn=on, logMessage=log.fmi3_callback, **early)
             else:
                 fmu.instantiate(callbacks=_fmi2_callbacks(log), loggingOn=on)
-            if log.level != "all":
-                fmu.setDebugLogging(loggingOn=False, categories=[])
     except BlueprintError as err:
         fmu.freeLibrary()
         for line in log.messages:  # the FMU's own words, in the processor's logs
@@ -185,6 +184,10 @@ def instantiate(
         raise BlueprintError(f"cannot instantiate the FMU: {err}") from err
     finally:
         log.instantiating = False
+    if log.level != "all":
+        # Quiet again; an FMU that refuses keeps logging, and FmuLog drops what is not kept.
+        with contextlib.suppress(Exception):
+            fmu.setDebugLogging(loggingOn=False, categories=[])
     api = Fmi3Api(fmu, kind) if fmi3 else Fmi2Api(fmu, kind)
     return fmu, api
 
