@@ -296,10 +296,15 @@ class ProcessorService:
             await self._unhost(pid)
             if pid not in enabled:  # disabled or deleted, not taken over: start anew later
                 await self._forget_position(pid)
+        # taken over finished (on its old node, or before a restart): it stays finished
+        try:
+            finished = await self._finished([enabled[p] for p in held if p not in self.hosted])
+        except StorageError:  # not known now: started, from the beginning
+            finished = {}
         for pid in sorted(held):
             record, hosted = enabled[pid], self.hosted.get(pid)
             if hosted is None:
-                self._host(record)
+                self._host(record, finished.get(pid))
             elif hosted.record.modified_ns != record.modified_ns:  # changed on another node
                 await self._apply(record, spec_of(hosted.record), spec_of(record))
         await save_positions(self.claims, list(self.hosted.values()))
