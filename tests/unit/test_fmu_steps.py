@@ -15,6 +15,7 @@ from twinlink.processors.blueprint import BlueprintError
 from twinlink.processors.blueprints._fmu_cs import DISCARD_RETRIES, CoSimulation
 from twinlink.processors.blueprints._fmu_fmi import (
     DISCARD,
+    EARLY_RETURN,
     ERROR,
     TERMINATE,
     FmiApi,
@@ -23,16 +24,16 @@ from twinlink.processors.blueprints._fmu_fmi import (
 )
 
 OK = 0
-# A scripted FMU: given (t, h), the status, whether it terminated, its last successful time,
-# and whether it returned early.
-Script = Callable[[float, float], tuple[int, bool, float, bool]]
+# A scripted FMU: given (t, h), the status (as FmiApi.do_step gives it), whether it
+# terminated, and its last successful time.
+Script = Callable[[float, float], tuple[int, bool, float]]
 
 
 class FakeApi(FmiApi):
     def __init__(self, script: Script) -> None:
         self.script = script
         self.steps: list[tuple[float, float]] = []
-        self._outcome: tuple[int, bool, float, bool] = (OK, False, 0.0, False)
+        self._outcome: tuple[int, bool, float] = (OK, False, 0.0)
 
     def accessor(self, op: str, type_: str, vrs: list[int]) -> Callable[[int], int]:
         return lambda at: OK
@@ -45,10 +46,6 @@ class FakeApi(FmiApi):
     def discarded(self, t: float) -> tuple[bool, float]:
         return self._outcome[1], self._outcome[2]
 
-    @property
-    def early_return(self) -> bool:
-        return self._outcome[3]
-
 
 def engine(script: Script) -> tuple[CoSimulation, FakeApi]:
     api = FakeApi(script)
@@ -58,7 +55,7 @@ def engine(script: Script) -> tuple[CoSimulation, FakeApi]:
 
 def test_a_step_discarded_without_termination_is_retried_in_halves() -> None:
     # Steps longer than 0.3 s are discarded with nothing done (lastSuccessfulTime = t).
-    cs, api = engine(lambda t, h: (DISCARD, False, t, False) if h > 0.3 else (OK, False, 0, False))
+    cs, api = engine(lambda t, h: (DISCARD, False, t) if h > 0.3 else (OK, False, 0))
     cs.advance(1.0)
     assert cs.time == 1.0
     assert api.steps[:3] == [(0.0, 1.0), (0.0, 0.5), (0.0, 0.25)]
@@ -67,38 +64,38 @@ def test_a_step_discarded_without_termination_is_retried_in_halves() -> None:
 
 def test_a_partly_done_step_goes_on_from_the_last_successful_time() -> None:
     # The first step gets to 0.4 s of 1 s and is discarded; the rest is then done.
-    cs, api = engine(lambda t, h: (DISCARD, False, 0.4, False) if t == 0 else (OK, False, 0, False))
+    cs, api = engine(lambda t, h: (DISCARD, False, 0.4) if t == 0 else (OK, False, 0))
     cs.advance(1.0)
     assert cs.time == 1.0 and api.steps == [(0.0, 1.0), (0.4, pytest.approx(0.6))]
 
 
 def test_an_early_return_goes_on_from_last_successful_time() -> None:
-    cs, api = engine(lambda t, h: (OK, False, 0.25, True) if t == 0 else (OK, False, 0, False))
+    cs, api = engine(lambda t, h: (EARLY_RETURN, False, 0.25) if t == 0 else (OK, False, 0))
     cs.advance(1.0)
     assert cs.time == 1.0 and api.steps == [(0.0, 1.0), (0.25, 0.75)]
 
 
 @pytest.mark.parametrize(
     "outcome",
-    [(DISCARD, True, 0.7, False), (TERMINATE, True, 0.7, True), (TERMINATE, True, 0.7, False)],
+    [(DISCARD, True, 0.7), (TERMINATE, True, 0.7), (DISCARD, True, 0.0)],
 )
 def test_a_terminating_fmu_ends_at_its_last_successful_time(
-    outcome: tuple[int, bool, float, bool],
+    outcome: tuple[int, bool, float],
 ) -> None:
     cs, _ = engine(lambda t, h: outcome)
     with pytest.raises(Terminated) as ended:
         cs.advance(1.0)
-    assert ended.value.time == 0.7 and cs.time == 0.7
+    assert ended.value.time == cs.time == outcome[2]
 
 
 def test_a_step_discarded_for_ever_is_a_failure_not_a_loop() -> None:
-    cs, api = engine(lambda t, h: (DISCARD, False, t, False))
+    cs, api = engine(lambda t, h: (DISCARD, False, t))
     with pytest.raises(BlueprintError, match="keeps discarding"):
         cs.advance(1.0)
     assert len(api.steps) == DISCARD_RETRIES + 1
 
 
 def test_an_error_is_a_failure() -> None:
-    cs, _ = engine(lambda t, h: (ERROR, False, t, False))
+    cs, _ = engine(lambda t, h: (ERROR, False, t))
     with pytest.raises(BlueprintError, match="fmi2DoStep returned error"):
         cs.advance(1.0)

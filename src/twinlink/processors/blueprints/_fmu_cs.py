@@ -7,6 +7,7 @@ from typing import Any
 from ..fmuinfo import FmuVariable, Scalar
 from ._fmu_fmi import (
     DISCARD,
+    EARLY_RETURN,
     TERMINATE,
     WARNING,
     FmiApi,
@@ -65,7 +66,7 @@ class CoSimulation(Engine):
         """Step to `t_end`; Terminated when the FMU ends the simulation on the way (its
         outputs are then those at the time it ended)."""
         status = self._do_step(self.time, t_end - self.time)
-        if status <= WARNING and not self.api.early_return:
+        if status <= WARNING:
             self.time = t_end
             return
         self._unfinished(status, t_end)
@@ -76,10 +77,10 @@ class CoSimulation(Engine):
         with half the step when it got nowhere."""
         h = t_end - self.time
         for _ in range(DISCARD_RETRIES):
-            if status > WARNING and status not in (DISCARD, TERMINATE):
+            if status > WARNING and status not in (DISCARD, TERMINATE, EARLY_RETURN):
                 when = f" at t = {self.time:g} s"
                 raise fmi_failure(f"{self.prefix}DoStep", status, self.log, when)
-            if status <= WARNING and not self.api.early_return:  # this step was done
+            if status <= WARNING:  # this step was done
                 self.time = t_end if h >= t_end - self.time else self.time + h
             else:
                 terminated, reached = self.api.discarded(self.time)

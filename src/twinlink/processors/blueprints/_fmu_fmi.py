@@ -40,6 +40,7 @@ from ..fmurules import INT_RANGES
 STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 WARNING, DISCARD, ERROR, FATAL = 1, 2, 3, 4
 TERMINATE = 100  # not an FMI status: the FMU asked to end the simulation
+EARLY_RETURN = 101  # not an FMI status: FMI 3 earlyReturn, the step ended before its end
 # fmi2StatusKind values (fmi2FunctionTypes.h)
 _FMI2_LAST_SUCCESSFUL_TIME, _FMI2_TERMINATED = 2, 3
 Raw = Callable[..., int]
@@ -245,10 +246,6 @@ class FmiApi:
     def discarded(self, t: float) -> tuple[bool, float]:
         raise NotImplementedError
 
-    @property
-    def early_return(self) -> bool:
-        return False
-
     # model exchange; names as FMPy's solvers expect them
     def set_time(self, t: float) -> int:
         return self._set_time(self.c, t)
@@ -361,16 +358,13 @@ class Fmi3Api(FmiApi):
 
     def do_step(self, t: float, h: float) -> int:
         status = self._do_step(self.c, t, h, True, *self._step_args)
-        return TERMINATE if status <= WARNING and self._flags[1] else status
+        if status <= WARNING and (self._flags[1] or self._flags[2]):
+            return TERMINATE if self._flags[1] else EARLY_RETURN
+        return status
 
     def discarded(self, t: float) -> tuple[bool, float]:
         """After fmi3DoStep: whether the FMU asked to terminate, and lastSuccessfulTime."""
         return bool(self._flags[1]), float(self._time.value)
-
-    @property
-    def early_return(self) -> bool:
-        """Whether the last fmi3DoStep returned early (before the step's end)."""
-        return bool(self._flags[2])
 
     def completed_integrator_step(self) -> tuple[int, bool, bool]:
         a = self._flag_addrs
