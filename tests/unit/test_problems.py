@@ -63,6 +63,8 @@ PLAIN = {
     "twinlink.domain.yamlsource._TooLarge",
     "twinlink.ingest.mqtt._wire.MalformedPacket",
     "twinlink.ingest.mqtt.packets.ProtocolViolation",
+    "twinlink.processors.blueprints._fmu_fmi.Terminated",
+    "twinlink.processors.fmuenv.EnvBuildError",
     "twinlink.processors.wire.ChannelClosed",
     "twinlink.store.postgres.history.group._Stale",
 }

@@ -44,7 +44,8 @@ PROXIES = ("HTTP_PROXY", "HTTPS_PROXY", "NO_PROXY", "http_proxy", "https_proxy",
 
 
 class EnvBuildError(Exception):
-    """The env could not be built; the message ends with pip's last lines."""
+    """The env could not be built; the message ends with pip's last lines. Not a problem of
+    the API's: the supervisor catches it and fails the processor with its message."""
 
 
 def requirement_problem(line: str) -> str | None:
