@@ -10,7 +10,8 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from twinlink.bus import Bus, MemoryBus
-from twinlink.config import Settings, kafka_bootstrap
+from twinlink.config import Settings
+from twinlink.domain.backend_urls import kafka_bootstrap
 from twinlink.store.base import MetadataStore
 from twinlink.store.commands import CommandStore, PropertyStore
 from twinlink.store.history import HistoryStore

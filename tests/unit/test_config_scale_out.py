@@ -60,7 +60,7 @@ def test_a_bad_store_url_is_refused_without_repeating_it(url: str, says: str) ->
     ],
 )
 def test_a_kafka_url_names_its_brokers(url: str, servers: str) -> None:
-    from twinlink.config import kafka_bootstrap
+    from twinlink.domain.backend_urls import kafka_bootstrap
 
     assert load_settings(None, bus_url=url).bus_url == url
     assert kafka_bootstrap(url) == servers
