@@ -18,10 +18,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import os
-import signal
 import socket
-import sys
 import time
 from collections import deque
 from collections.abc import Awaitable, Callable
@@ -32,26 +29,21 @@ from typing import Any
 import psutil
 
 from twinlink.processors.blueprint import Batch
-from twinlink.processors.fmuenv import EnvBuildError
+from twinlink.processors.exits import STOP_GRACE_S, ask_to_stop, exit_cause
 from twinlink.processors.stats import ProcessorStats
 from twinlink.processors.wire import ChannelClosed, frame, pack_batch, read_frame, unpack_batch
+from twinlink.processors.workerenv import Cause, Interpreter, worker_environment, worker_python
+from twinlink.processors.workerenv import EventTuple as EventTuple  # where others have it from
 
 log = logging.getLogger("twinlink.processors")
 
 MAX_INFLIGHT = 2
 START_TIMEOUT_S = 60.0
-STOP_GRACE_S = 5.0
 BACKOFF_FIRST_S = 0.5
 BACKOFF_MAX_S = 30.0
 STABLE_AFTER_S = 60.0
 MEMORY_POLL_S = 0.25
 LOG_LINES = 500
-
-# (kind, message, time_ns, data)
-EventTuple = tuple[str, str, int, dict[str, Any]]
-# The interpreter of a processor's own Python env (fmuenv.py), built first if need be; it is
-# told the env's key when a build starts.
-Interpreter = Callable[[Callable[[str], None]], Awaitable[Path]]
 
 
 @dataclass(slots=True)
@@ -85,12 +77,6 @@ class WorkerConfig:
     @property
     def max_pending(self) -> int:
         return max(100_000, 10 * int(self.rates.get("max_batch", 10_000)))
-
-
-def worker_environment() -> dict[str, str]:
-    """The server's environment without its settings: a worker runs uploaded code, and the
-    settings may hold the first admin's password and token."""
-    return {k: v for k, v in os.environ.items() if not k.startswith("TWINLINK_")}
 
 
 class Supervisor:
@@ -247,14 +233,14 @@ class Supervisor:
         self.restart_at = None
         self.on_events([("stopped", "stopped", time.time_ns(), {})])
 
-    async def _life(self) -> tuple[str, str, dict[str, Any]] | None:
+    async def _life(self) -> Cause | None:
         """Run one worker until it exits; why it exited (None: it was asked to)."""
         self.state = "starting"
         self._restart_requested = False
         self._over_memory = self._hung = self._failure = self._finished = None
-        python = await self._interpreter()
-        if not isinstance(python, str):
-            return python
+        python = await worker_python(self.config.interpreter, self._stop, self.on_events)
+        if not isinstance(python, str) or self._restart_requested:
+            return None if isinstance(python, str) else python
         parent, child = socket.socketpair()
         proc = await asyncio.create_subprocess_exec(
             python, "-m", "twinlink.processors.worker", str(child.fileno()),
@@ -284,35 +270,6 @@ class Supervisor:
             self._proc = None
             self._abandon_inflight()
         return self._cause(proc.returncode)
-
-    async def _interpreter(self) -> str | tuple[str, str, dict[str, Any]] | None:
-        """The Python the worker runs in; or why it cannot start (None: it was asked to stop
-        while its env was being built, which may take minutes)."""
-        if self.config.interpreter is None:
-            return sys.executable
-        announced: list[str] = []
-
-        def building(key: str) -> None:
-            announced.append(key)
-            message = f"building its Python environment {key} (python_requirements)"
-            self.on_events([("env_building", message, time.time_ns(), {"env": key})])
-
-        built = asyncio.ensure_future(self.config.interpreter(building))
-        stopping = asyncio.ensure_future(self._stop.wait())
-        await asyncio.wait((built, stopping), return_when=asyncio.FIRST_COMPLETED)
-        stopping.cancel()
-        if not built.done():
-            built.cancel()
-            await asyncio.gather(built, return_exceptions=True)
-            return None
-        try:
-            python = built.result()
-        except EnvBuildError as err:
-            return "env_failed", f"its Python environment could not be built: {err}", {}
-        if announced:
-            self.on_events([("env_ready", "its Python environment is built", time.time_ns(),
-                             {"env": announced[0]})])  # fmt: skip
-        return None if self._restart_requested else str(python)
 
     async def _started(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> bool:
         writer.write(frame(self.config.init_message()))
@@ -425,19 +382,7 @@ class Supervisor:
             log.debug("%s: %s", self.config.name, text)
 
     async def _ask_to_stop(self) -> None:
-        proc, writer = self._proc, self._writer
-        if proc is None or proc.returncode is not None:
-            return
-        if writer is not None:
-            with contextlib.suppress(ConnectionError, RuntimeError):
-                writer.write(frame({"t": "stop"}))
-        for action in (None, proc.terminate, proc.kill):
-            if action is not None:
-                with contextlib.suppress(ProcessLookupError):
-                    action()
-            with contextlib.suppress(TimeoutError):
-                await asyncio.wait_for(proc.wait(), STOP_GRACE_S if action is None else 2.0)
-                return
+        await ask_to_stop(self._proc, self._writer)
 
     def _abandon_inflight(self) -> None:
         """Input the dead worker never answered is lost (not re-sent: it may be what killed
@@ -449,25 +394,14 @@ class Supervisor:
         self._inflight.clear()
         self._room.set()
 
-    def _cause(self, code: int | None) -> tuple[str, str, dict[str, Any]] | None:
+    def _cause(self, code: int | None) -> Cause | None:
         if self._restart_requested or self._stop.is_set() or self._finished is not None:
             return None
         tail = [line for _, line in list(self.logs)[-20:]]
-        data: dict[str, Any] = {"exit_code": code, "log_tail": tail}
-        if self._over_memory is not None:
-            limit_mb = self.config.memory_limit_bytes / 2**20
-            message = (
-                f"over its memory limit: RSS {self._over_memory / 2**20:.0f} MB > {limit_mb:.0f} MB"
-            )
-            return "memory_limit", message, {**data, "rss_bytes": self._over_memory}
-        if self._hung is not None:
-            message = f"stuck on one batch for {self._hung:.0f} s (batch_timeout_s)"
-            return "hung", message, data
-        self.stats.crashes += 1
-        if self._failure is not None:
-            return "failed", self._failure, data
-        if code is not None and code < 0:
-            name = signal.Signals(-code).name
-            described = signal.strsignal(-code) or name
-            return "crashed", f"killed by signal {name} ({described})", data
-        return "crashed", f"exited with status {code}", data
+        cause = exit_cause(
+            code, tail, self.config.memory_limit_bytes, self._over_memory, self._hung,
+            self._failure,
+        )  # fmt: skip
+        if cause[0] in ("failed", "crashed"):  # not its limits: the worker's own fault
+            self.stats.crashes += 1
+        return cause
