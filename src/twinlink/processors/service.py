@@ -16,34 +16,29 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
-from twinlink.auth.rights import Principal, has_role
+from twinlink.auth.rights import Principal
 from twinlink.bus import Bus
 from twinlink.commands import CommandService
-from twinlink.domain.errors import (
-    ConflictError,
-    ForbiddenError,
-    InvalidInputError,
-    NotFoundError,
-    StorageError,
-)
-from twinlink.domain.records import ProcessorEvent, ProcessorRecord, TwinRecord
+from twinlink.domain.errors import ConflictError, InvalidInputError, NotFoundError, StorageError
+from twinlink.domain.records import ProcessorEvent, ProcessorRecord
 from twinlink.ingest.service import IngestService
 from twinlink.library.service import LibraryService
+from twinlink.processors.access import editable_twin, stored_processor
 from twinlink.processors.catalog import Entry, discover
 from twinlink.processors.checks import check_chain, check_fmu, checked_spec, spec_of
 from twinlink.processors.fmuenv import FmuEnvs
 from twinlink.processors.hosting import Hosted, save_positions, subscribed
 from twinlink.processors.libref import LibraryFmus
 from twinlink.processors.outputs import Outputs
+from twinlink.processors.reports import Reports, finished_before
 from twinlink.processors.spec import ProcessorSpec
-from twinlink.processors.supervisor import EventTuple, Supervisor, WorkerConfig
+from twinlink.processors.supervisor import Supervisor, WorkerConfig
 from twinlink.registry.service import RegistryService
 from twinlink.store.base import MetadataStore
 from twinlink.store.history import HistoryReadStore
 from twinlink.store.leases import Claims
 
 log = logging.getLogger("twinlink.processors")
-NOTABLE = {"crashed", "failed", "memory_limit", "hung"}
 
 
 class ProcessorService:
@@ -72,7 +67,7 @@ class ProcessorService:
         self.max_running = max_running
         self.catalog: dict[str, Entry] = {}
         self.hosted: dict[int, Hosted] = {}
-        self._background: set[asyncio.Task[Any]] = set()
+        self.reports = Reports(store, commands)  # events and commands, in the background
         # On a store shared by several nodes: the leases of the processors this node runs
         # (None: the only node, which runs every enabled processor).
         self.claims = claims
@@ -98,12 +93,12 @@ class ProcessorService:
         await self.lib.open(records)
         if self.claims is None:  # the only node: it runs every enabled processor
             await self.lib.prepare([r for r in records if r.enabled])
-            self._host_all(records, await self._finished(records))
+            self._host_all(records, await finished_before(self.store, records))
         else:  # one of several: it runs those whose leases it takes, now and every round
             await self._rebalance()
             self._keeper = asyncio.create_task(self.claims.keep(self._rebalance, self._changing))
         # Import the installed blueprints now, off the event loop, not at the first request.
-        self._spawn(asyncio.to_thread(lambda: [e.cls for e in self.catalog.values()]))
+        self.reports.spawn(asyncio.to_thread(lambda: [e.cls for e in self.catalog.values()]))
 
     async def close(self) -> None:
         if self._keeper is not None:
@@ -111,8 +106,7 @@ class ProcessorService:
             await asyncio.gather(self._keeper, return_exceptions=True)
         stopped = list(self.hosted.values())
         await asyncio.gather(*(self._unhost(pid) for pid in list(self.hosted)))
-        if self._background:
-            await asyncio.gather(*self._background, return_exceptions=True)
+        await self.reports.drain()
         if self.claims is not None:  # stopped: the other nodes may take them over at once
             await save_positions(self.claims, stopped)  # and go on from where these stopped
             try:
@@ -139,7 +133,7 @@ class ProcessorService:
         return self.view(await self._find(principal, slug, name, "viewer"))
 
     async def create(self, principal: Principal, slug: str, body: dict[str, Any]) -> dict[str, Any]:
-        twin = await self._editable(principal, slug)
+        twin = await editable_twin(self.registry, principal, slug)
         spec = self._checked(body)
         pinned = await self.lib.pin(principal, spec.params)  # a library FMU, pinned
         await check_fmu(spec, twin.id, twin.slug, self.store, self.lib)
@@ -251,17 +245,6 @@ class ProcessorService:
 
     # -- which node runs what (a shared store) --------------------------------------------
 
-    async def _finished(self, records: list[ProcessorRecord]) -> dict[int, str]:
-        """The enabled processors that were finished when the server stopped (their newest
-        event says so): they stay finished until started again through the API."""
-        finished = {}
-        for record in records:
-            if record.enabled:
-                newest = await self.store.list_processor_events(record.id, 1)
-                if newest and newest[0].kind == "finished":
-                    finished[record.id] = newest[0].message
-        return finished
-
     def _host_all(self, records: list[ProcessorRecord], finished: dict[int, str]) -> None:
         for record in records:
             if not record.enabled:
@@ -298,7 +281,8 @@ class ProcessorService:
                 await self._forget_position(pid)
         # taken over finished (on its old node, or before a restart): it stays finished
         try:
-            finished = await self._finished([enabled[p] for p in held if p not in self.hosted])
+            taken = [enabled[p] for p in held if p not in self.hosted]
+            finished = await finished_before(self.store, taken)
         except StorageError:  # not known now: started, from the beginning
             finished = {}
         for pid in sorted(held):
@@ -326,8 +310,8 @@ class ProcessorService:
         supervisor = Supervisor(
             config,
             on_output=partial(self.outputs.publish, record),
-            on_events=partial(self._record_events, record),
-            on_commands=partial(self._send_commands, record),
+            on_events=partial(self.reports.events, record),
+            on_commands=partial(self.reports.send_commands, record),
         )
         catch_up_from = None  # on a shared store: first what it has not processed (catchup.py)
         if self.claims is not None and self.history is not None and entry is not None:
@@ -342,7 +326,7 @@ class ProcessorService:
         if entry is None:
             why = f"blueprint {record.blueprint!r} is not available"
             supervisor.last_error = why
-            self._record_events(record, [("failed", why, time.time_ns(), {})])
+            self.reports.events(record, [("failed", why, time.time_ns(), {})])
             return
         hosted.start()
 
@@ -390,52 +374,11 @@ class ProcessorService:
             interpreter=partial(self.envs.python, wanted) if wanted else None,
         )
 
-    def _record_events(self, record: ProcessorRecord, events: list[EventTuple]) -> None:
-        for kind, message, _, data in events:
-            if kind in NOTABLE:
-                extra = {"event": f"processor_{kind}", "exit_code": data.get("exit_code")}
-                log.warning(
-                    "processor %s/%s %s: %s", record.twin_slug, record.name, kind, message,
-                    extra=extra,
-                )  # fmt: skip
-        rows = [(record.id, t or time.time_ns(), k, m, d) for k, m, t, d in events]
-        self._spawn(self.store.add_processor_events(rows))
-
-    def _send_commands(self, record: ProcessorRecord, commands: list[list[Any]]) -> None:
-        for name, params, device in commands:
-            self._spawn(self._send_command(record, name, params, device))
-
-    async def _send_command(
-        self, record: ProcessorRecord, name: str, params: dict[str, Any], device: str | None
-    ) -> None:
-        """A blueprint's command goes out with the rights of the processor's creator."""
-        user = await self.store.get_user(record.created_by) if record.created_by else None
-        try:
-            if user is None:
-                raise InvalidInputError("the processor's creator no longer exists")
-            sent = await self.commands.send(
-                Principal(user), record.twin_slug, name, params or None, device, wait=False
-            )
-            event = (
-                "command",
-                f"sent {name}",
-                time.time_ns(),
-                {"id": sent.id, "state": sent.state},
-            )
-        except Exception as err:  # a refused command is an event, not a crash
-            event = ("command_failed", f"{name}: {err}", time.time_ns(), {})
-        self._record_events(record, [event])
-
-    def _spawn(self, coro: Any) -> None:
-        task = asyncio.ensure_future(coro)
-        self._background.add(task)
-        task.add_done_callback(self._background.discard)
-
     def _twins_deleted(self, twin_ids: list[int]) -> None:
         gone = [pid for pid, h in self.hosted.items() if h.record.twin_id in twin_ids]
         for pid in gone:
-            self._spawn(self._unhost(pid))
-        self._spawn(self.lib.release(self.lib.of_twins(twin_ids)))
+            self.reports.spawn(self._unhost(pid))
+        self.reports.spawn(self.lib.release(self.lib.of_twins(twin_ids)))
 
     # -- checks -----------------------------------------------------------------------------
 
@@ -449,24 +392,9 @@ class ProcessorService:
                 "(TWINLINK_MAX_PROCESSORS); stop or delete one first"
             )
 
-    async def _editable(self, principal: Principal, slug: str) -> TwinRecord:
-        twin, role = await self.registry.require_twin(principal, slug)
-        if not has_role(principal, role, "editor"):
-            raise_forbidden(slug)
-        return twin
-
     async def _find(
         self, principal: Principal, slug: str, name: str, needed: str
     ) -> ProcessorRecord:
-        twin, role = await self.registry.require_twin(principal, slug)
-        if needed == "editor" and not has_role(principal, role, "editor"):
-            raise_forbidden(slug)
-        for record in await self.store.list_processors(twin.id):
-            if record.name == name:
-                hosted = self.hosted.get(record.id)
-                return hosted.record if hosted else record
-        raise NotFoundError(f"twin {slug!r} has no processor {name!r}")
-
-
-def raise_forbidden(slug: str) -> None:
-    raise ForbiddenError(f"changing processors of {slug!r} needs the editor role")
+        record = await stored_processor(self.registry, self.store, principal, slug, name, needed)
+        hosted = self.hosted.get(record.id)
+        return hosted.record if hosted else record
