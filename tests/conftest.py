@@ -149,6 +149,8 @@ FMU_SOURCES = {
     "status": ROOT / "tests" / "fmus" / "status",
     "stair": ROOT / "tests" / "fmus" / "stair" / "fmi2",
     "stair3": ROOT / "tests" / "fmus" / "stair" / "fmi3",
+    "msd_mass": ROOT / "tests" / "fmus" / "msd_mass",
+    "msd_spring": ROOT / "tests" / "fmus" / "msd_spring",
 }
 
 
@@ -173,5 +175,6 @@ class FmuFiles:
 def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
     """`fmu_files(name)` is the path of the built FMU: "tingen" (FMI 2.0, examples/tingen/fmu),
     "tingen3" (FMI 3.0, examples/tingen/fmu3), or "crash", "leak", "status", "stair" (FMI 2.0)
-    and "stair3" (FMI 3.0) (tests/fmus)."""
+    and "stair3" (FMI 3.0) (tests/fmus), and the co-simulated mass-spring-damper pair
+    "msd_mass" and "msd_spring" (FMI 2.0)."""
     return FmuFiles(tmp_path_factory.mktemp("fmus"))
