@@ -55,6 +55,7 @@ class FmuTerminated(Exception):
 class Group:
     """The variables of one FMI type read or written in one call."""
 
+    type: str
     names: list[str] = field(default_factory=list)
     vrs: list[int] = field(default_factory=list)
     buffer: Buffer = field(default_factory=lambda: np.zeros(0))
@@ -112,7 +113,7 @@ class Slave:
         (into=True) the FMU; the buffers exist once `bind` ran."""
         var = self.variable(name, settable=into)
         groups = self._inputs if into else self._outputs
-        group = groups.setdefault(var.type, Group())
+        group = groups.setdefault(var.type, Group(var.type))
         if name not in group.names:
             group.names.append(name)
             group.vrs.append(var.value_reference)
@@ -162,13 +163,13 @@ class Slave:
         for group in self._outputs.values():
             status = group.call(group.address)
             if status > WARNING:
-                self._fail(self.api.function("Get", "Real"), status)
+                self._fail(self.api.function("Get", group.type), status)
 
     def write(self) -> None:
         for group in self._inputs.values():
             status = group.call(group.address)
             if status > WARNING:
-                self._fail(self.api.function("Set", "Real"), status)
+                self._fail(self.api.function("Set", group.type), status)
 
     def step(self, t: float, h: float) -> None:
         status = self.api.do_step(t, h)
