@@ -116,7 +116,9 @@ def test_a_changed_mass_changes_the_period(msd: dict[str, Path]) -> None:
     assert period(2.0) == pytest.approx(2 * math.pi * math.sqrt(2.0), abs=0.002)
 
 
-def test_the_csv_has_maestros_header_and_a_row_per_step(msd: dict[str, Path]) -> None:
+def test_the_csv_has_maestros_header_and_a_row_per_step(
+    msd: dict[str, Path], tmp_path: Path
+) -> None:
     fractions: list[float] = []
     result = run(msd_system("gauss-seidel", 0.5), msd, progress=fractions.append)
     out = io.StringIO()
@@ -130,6 +132,8 @@ def test_the_csv_has_maestros_header_and_a_row_per_step(msd: dict[str, Path]) ->
     assert float(rows[1][4]) == PARAMS["kc"] * (0.0 - X1_0)
     assert fractions == sorted(fractions) and fractions[-1] == 1.0 and len(fractions) <= 101
     assert result.ended == ""
+    result.write_csv(tmp_path / "outputs.csv")  # Maestro's file name
+    assert (tmp_path / "outputs.csv").read_text(encoding="utf-8") == out.getvalue()
 
 
 def test_a_stop_ends_the_run_between_steps_with_the_rows_so_far(msd: dict[str, Path]) -> None:

@@ -23,6 +23,7 @@ from twinlink.domain.errors import TwinlinkError
 from twinlink.processors.blueprint import BlueprintError
 from twinlink.processors.blueprints._fmu_fmi import (
     DISCARD,
+    EARLY_RETURN,
     FATAL,
     TERMINATE,
     WARNING,
@@ -177,6 +178,11 @@ class Slave:
             return
         if status == TERMINATE or (status == DISCARD and self.api.discarded(t)[0]):
             raise FmuTerminated(f"{self.label} asked to terminate in the step from t = {t:g} s")
+        if status == EARLY_RETURN:  # asked for by the FMU blueprint's instantiate, unused here
+            raise CosimRunError(
+                f"{self.label}: fmi3DoStep returned early in the step from t = {t:g} s; "
+                "a fixed-step master cannot continue from a step cut short"
+            )
         self._fail(f"{self.api.prefix}DoStep", status, f" at t = {t:g} s")
 
     def _fail(self, function: str, status: int, when: str = "") -> None:
