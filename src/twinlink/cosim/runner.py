@@ -87,6 +87,32 @@ def _check(system: System, fmu_paths: Mapping[str, Path]) -> None:
 def _simulate(
     system: System, slaves: list[Slave], progress: Progress | None, stop: threading.Event | None
 ) -> Result:
+    times = steps(system)
+    master, columns = _wire(system, slaves, len(times))
+    values: dict[str, list[tuple[str, Scalar]]] = defaultdict(list)
+    for port, value in system.parameters.items():
+        values[port.instance].append((port.variable, value))
+    for slave in slaves:
+        slave.set_start_values(values[slave.name])
+        slave.enter_initialization(times[0], times[-1])
+    master.exchange_initial()
+    for slave in slaves:
+        slave.exit_initialization()
+    ended = ""
+    try:
+        rows = master.run(times, progress, stop)
+        if rows < len(times):
+            ended = f"stopped at t = {times[rows - 1]:g} s"
+    except FmuTerminated as done:
+        rows = int(np.count_nonzero(~np.isnan(master.table[:, 0])))
+        ended = str(done)
+    if progress is not None and not ended:
+        progress(1.0)
+    return Result(columns, master.table[:rows], ended)
+
+
+def _wire(system: System, slaves: list[Slave], rows: int) -> tuple[Master, tuple[str, ...]]:
+    """The master over `slaves` with its links and records, and the recorded columns."""
     by_name = {s.name: s for s in slaves}
     # Ports first (each adds its variable to a buffer), then the buffers, then the links.
     pending: dict[str, list[tuple[tuple[Group, int], tuple[Group, int]]]] = defaultdict(list)
@@ -98,7 +124,7 @@ def _simulate(
     recorded = []
     for instance, variables in system.log_variables.items():
         for variable in variables:
-            recorded.append((by_name[instance], by_name[instance].port(variable, into=False)))
+            recorded.append(by_name[instance].port(variable, into=False))
             columns.append(column_name(system, Port(instance, variable)))
     for slave in slaves:
         slave.bind()
@@ -106,38 +132,15 @@ def _simulate(
         name: [Link(sg.buffer, si, tg.buffer, ti) for (sg, si), (tg, ti) in pairs]
         for name, pairs in pending.items()
     }
-    records = _records(recorded)
-    times = steps(system)
-    table = np.full((len(times), len(columns)), np.nan)
-    master = Master(slaves, links, records, table, system.algorithm.master == "jacobi")
-
-    start, end = times[0], times[-1]
-    values: dict[str, list[tuple[str, Scalar]]] = defaultdict(list)
-    for port, value in system.parameters.items():
-        values[port.instance].append((port.variable, value))
-    for slave in slaves:
-        slave.set_start_values(values[slave.name])
-        slave.enter_initialization(start, end)
-    master.exchange_initial()
-    for slave in slaves:
-        slave.exit_initialization()
-    ended = ""
-    try:
-        rows = master.run(times, progress, stop)
-        if rows < len(times):
-            ended = f"stopped at t = {times[rows - 1]:g} s"
-    except FmuTerminated as done:
-        rows = int(np.count_nonzero(~np.isnan(table[:, 0])))
-        ended = str(done)
-    if progress is not None and not ended:
-        progress(1.0)
-    return Result(tuple(columns), table[:rows], ended)
+    table = np.full((rows, len(columns)), np.nan)
+    jacobi = system.algorithm.master == "jacobi"
+    return Master(slaves, links, _records(recorded), table, jacobi), tuple(columns)
 
 
-def _records(recorded: list[tuple[Slave, tuple[Group, int]]]) -> list[Record]:
+def _records(recorded: list[tuple[Group, int]]) -> list[Record]:
     """Recorded ports grouped by buffer, so a row is one numpy assignment per buffer."""
     groups: dict[int, tuple[Group, list[int], list[int]]] = {}
-    for column, (_, (group, index)) in enumerate(recorded, start=1):
+    for column, (group, index) in enumerate(recorded, start=1):
         entry = groups.setdefault(id(group), (group, [], []))
         entry[1].append(index)
         entry[2].append(column)
