@@ -105,6 +105,22 @@ def test_ssp_step_defaults_to_a_500th_of_the_experiment(tmp_path: Path) -> None:
     assert system.algorithm.size == pytest.approx(10.0 / 500)
 
 
+def test_maestro_settings_add_parameters_and_logged_variables() -> None:
+    settings = {
+        "algorithm": {"type": "fixed-step", "size": 0.01},
+        "parameters": {"{msd2}.msd2i.c2": 2.5, "{msd1}.msd1i.c1": 1},
+        "logVariables": {"{msd2}.msd2i": ["v2", "fk"], "{msd1}.msd1i": ["x1"]},
+    }
+    system = read_maestro(MSD / "mm.json", settings=settings)
+    assert dict(system.parameters) == {
+        **PARAMETERS,
+        Port(M2, "c2"): 2.5,
+        Port(M1, "c1"): 1,
+    }
+    assert dict(system.log_variables) == {M2: ("x2", "v2", "fk"), M1: ("x1",)}
+    assert system.algorithm.size == 0.01
+
+
 def test_maestro_var_step_settings_from_maestros_test_file() -> None:
     system = read_maestro(MSD / "mm.json", settings=MSD / "varstep.json")
     assert system.algorithm == Algorithm(

@@ -98,7 +98,7 @@ def read_maestro(
         if not isinstance(settings, Mapping) and base_dir is not None:
             settings = base_dir / settings
         extra, extra_name = _load(settings, "the settings")
-        data.update(extra)
+        data = _merge(data, extra)
         name = f"{name} (with {extra_name})"
     reader = _Reader(name, _fmus(data, name))
     connections = _connections(reader, data.get("connections", {}))
@@ -120,6 +120,27 @@ def read_maestro(
         end_time=end,
         source="maestro",
     )
+
+
+def _merge(model: dict[str, Any], settings: Mapping[str, Any]) -> dict[str, Any]:
+    """The multi-model completed by its settings. The INTO-CPS app's coe.json holds
+    `parameters` and `logVariables` of its own (often `{}`): those add to the multi-model's
+    (a parameter given in both takes the settings' value, the variables logged are both
+    lists), every other key of the settings replaces the multi-model's."""
+    out = {**model, **settings}
+    params, extra_params = model.get("parameters"), settings.get("parameters")
+    if isinstance(params, dict) and isinstance(extra_params, dict):
+        out["parameters"] = {**params, **extra_params}
+    logs, extra_logs = model.get("logVariables"), settings.get("logVariables")
+    if isinstance(logs, dict) and isinstance(extra_logs, dict):
+        merged = dict(logs)
+        for key, names in extra_logs.items():
+            known = merged.get(key)
+            if isinstance(known, list) and isinstance(names, list):
+                names = known + [n for n in names if n not in known]
+            merged[key] = names
+        out["logVariables"] = merged
+    return out
 
 
 def _fmus(data: Mapping[str, Any], name: str) -> dict[str, str]:
