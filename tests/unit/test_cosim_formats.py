@@ -15,7 +15,7 @@ import pytest
 from twinlink.cosim.maestro import read_maestro
 from twinlink.cosim.model import Algorithm, Connection, CosimFormatError, Port, System
 from twinlink.cosim.ssp import extract, read_ssp
-from twinlink.cosim.yamlform import read_yaml
+from twinlink.cosim.yamlform import read_yaml, to_yaml
 from twinlink.domain.errors import InvalidInputError
 
 FILES = Path(__file__).resolve().parents[1] / "cosim_files"
@@ -98,6 +98,18 @@ def test_ssp_archive_reads_the_same_system(tmp_path: Path) -> None:
     maestro = read_maestro(MSD / "maestro2.json")
     assert set(system.connections) == set(maestro.connections)
     assert dict(system.parameters) == dict(maestro.parameters)
+
+
+@pytest.mark.parametrize("fmt", ["maestro", "ssp", "yaml", "var-step"])
+def test_every_format_round_trips_through_the_yaml_form(tmp_path: Path, fmt: str) -> None:
+    system = {
+        "maestro": lambda: read_maestro(MSD / "mm.json", settings="coe.json"),
+        "ssp": lambda: read_ssp(make_ssp(tmp_path / "msd.ssp")),
+        "yaml": lambda: read_yaml(MSD / "msd.yaml"),
+        "var-step": lambda: read_maestro(MSD / "mm.json", settings=MSD / "varstep.json"),
+    }[fmt]()
+    again = read_yaml("converted.yaml", text=to_yaml(system))
+    assert _fields(again) == {**_fields(system), "source": "yaml"}
 
 
 def test_ssp_step_defaults_to_a_500th_of_the_experiment(tmp_path: Path) -> None:

@@ -21,7 +21,8 @@
 A port is "instance.variable": the longest instance name it starts with is the instance, so
 names may hold dots ("msd1.m1", Maestro's style) and so may variables ("der(x)", "a.b[1]").
 `connections`, `parameters`, `log` and `start_time` may be left out; other keys are refused,
-as a misspelt key would otherwise be lost without a word.
+as a misspelt key would otherwise be lost without a word. `to_yaml` writes any System in this
+form (a Maestro multi-model or an SSP converted), which reads back into the same System.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from typing import Any
 from twinlink.cosim.model import Algorithm, Connection, CosimFormatError, Instance, Port, System
 from twinlink.domain.errors import DocumentError
 from twinlink.domain.yamlsource import Path as YamlPath
-from twinlink.domain.yamlsource import SourceDocument, parse_yaml_stream
+from twinlink.domain.yamlsource import SourceDocument, dump_yaml, parse_yaml_stream
 
 KEYS = frozenset(
     {"instances", "connections", "parameters", "log", "algorithm", "start_time", "end_time"}
@@ -62,6 +63,30 @@ def read_yaml(source: Path | str, *, text: str | None = None) -> System:
     if len(docs) != 1:
         raise CosimFormatError(f"{name}: holds {len(docs)} YAML documents, not one")
     return _Reader(name, docs[0]).system()
+
+
+def to_yaml(system: System) -> str:
+    """`system` in the YAML form; read_yaml gives it back (its `source` then "yaml")."""
+    connections: dict[str, list[str]] = {}
+    for conn in system.connections:
+        connections.setdefault(str(conn.source), []).append(str(conn.target))
+    algorithm: dict[str, Any] = {"type": system.algorithm.kind, "size": system.algorithm.size}
+    if system.algorithm.min_size is not None:
+        algorithm["min_size"] = system.algorithm.min_size
+    if system.algorithm.max_size is not None:
+        algorithm["max_size"] = system.algorithm.max_size
+    algorithm["master"] = system.algorithm.master
+    data: dict[str, Any] = {
+        "instances": {i.name: i.fmu for i in system.instances},
+        "connections": connections,
+        "parameters": {str(port): value for port, value in system.parameters.items()},
+        "log": {name: list(names) for name, names in system.log_variables.items()},
+        "algorithm": algorithm,
+        "start_time": system.start_time,
+    }
+    if system.end_time is not None:
+        data["end_time"] = system.end_time
+    return dump_yaml(data)
 
 
 class _Reader:
