@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from tests.conftest import FmuFiles
+from tests.conftest import ROOT, FmuFiles
+from twinlink.cosim.maestro import read_maestro
 from twinlink.cosim.model import Algorithm, Connection, Instance, Port, System
 from twinlink.cosim.runner import CosimRunError, Result, run
 from twinlink.domain.errors import InvalidInputError
@@ -25,8 +26,9 @@ pytestmark = pytest.mark.integration
 
 MASS = Instance("msd1.m1", "msd1.fmu")
 SPRING = Instance("msd2.m2", "msd2.fmu")
-# Not symmetric, lightly damped, coupled more stiffly than tied to the walls.
-PARAMS = {"m1": 1.0, "k1": 1.0, "c1": 0.1, "m2": 2.0, "k2": 3.0, "c2": 0.05, "kc": 2.0, "dc": 0.2}
+# Not symmetric, lightly damped, coupled more stiffly than tied to the walls. The INTO-CPS
+# example's names: c springs, d dampers, cc and dc the coupling's.
+PARAMS = {"m1": 1.0, "c1": 1.0, "d1": 0.1, "m2": 2.0, "c2": 3.0, "d2": 0.05, "cc": 2.0, "dc": 0.2}
 X1_0, END = 1.0, 10.0
 
 
@@ -38,8 +40,8 @@ def msd_system(master: str, step: float, **params: float) -> System:
     values = PARAMS | params
     parameters: dict[Port, float | int | bool | str] = {
         _p(MASS, "x1"): X1_0,
-        **{_p(MASS, n): values[n] for n in ("m1", "k1", "c1")},
-        **{_p(SPRING, n): values[n] for n in ("m2", "k2", "c2", "kc", "dc")},
+        **{_p(MASS, n): values[n] for n in ("m1", "c1", "d1")},
+        **{_p(SPRING, n): values[n] for n in ("m2", "c2", "d2", "cc", "dc")},
     }
     return System(
         instances=(MASS, SPRING),
@@ -67,9 +69,9 @@ def monolithic(times: np.ndarray, **params: float) -> np.ndarray:
 
     def f(_t: float, y: np.ndarray) -> list[float]:
         x1, v1, x2, v2 = y
-        fk = p["kc"] * (x2 - x1) + p["dc"] * (v2 - v1)
-        a1 = (fk - p["k1"] * x1 - p["c1"] * v1) / p["m1"]
-        a2 = (-fk - p["k2"] * x2 - p["c2"] * v2) / p["m2"]
+        fk = p["cc"] * (x2 - x1) + p["dc"] * (v2 - v1)
+        a1 = (fk - p["c1"] * x1 - p["d1"] * v1) / p["m1"]
+        a2 = (-fk - p["c2"] * x2 - p["d2"] * v2) / p["m2"]
         return [v1, a1, v2, a2]
 
     sol = solve_ivp(f, (0.0, END), [X1_0, 0.0, 0.0, 0.0], t_eval=times, rtol=1e-11, atol=1e-12)
@@ -102,10 +104,10 @@ def test_the_coupled_pair_converges_to_the_monolithic_solution(msd: dict[str, Pa
 
 
 def test_a_changed_mass_changes_the_period(msd: dict[str, Path]) -> None:
-    """A lone undamped mass (kc = 0 decouples it): the period is 2 pi sqrt(m1 / k1)."""
+    """A lone undamped mass (cc = 0 decouples it): the period is 2 pi sqrt(m1 / c1)."""
 
     def period(m1: float) -> float:
-        system = msd_system("gauss-seidel", 0.001, m1=m1, c1=0.0, kc=0.0, dc=0.0)
+        system = msd_system("gauss-seidel", 0.001, m1=m1, d1=0.0, cc=0.0, dc=0.0)
         result = run(replace(system, end_time=20.0), msd)
         t, x = result.column("time"), result.column("{msd1}.m1.x1")
         down = np.nonzero((x[:-1] > 0) & (x[1:] <= 0))[0]  # downward zero crossings
@@ -128,8 +130,8 @@ def test_the_csv_has_maestros_header_and_a_row_per_step(
     assert [float(r[0]) for r in rows[1:]] == [k * 0.5 for k in range(21)]
     assert rows[1][1:3] == [repr(X1_0), "0.0"]  # the start values, before the first step
     assert np.array_equal(np.array(rows[1:], dtype=float), result.values)  # exact round trip
-    # fk is computed from the connected x1 at the start: kc (x2 - x1) = 2 (0 - 1)
-    assert float(rows[1][4]) == PARAMS["kc"] * (0.0 - X1_0)
+    # fk is computed from the connected x1 at the start: cc (x2 - x1) = 2 (0 - 1)
+    assert float(rows[1][4]) == PARAMS["cc"] * (0.0 - X1_0)
     assert fractions == sorted(fractions) and fractions[-1] == 1.0 and len(fractions) <= 101
     assert result.ended == ""
     result.write_csv(tmp_path / "outputs.csv")  # Maestro's file name
@@ -230,3 +232,17 @@ def test_an_unknown_variable_is_named(msd: dict[str, Path]) -> None:
     bad = replace(system, log_variables={MASS.name: ("x9",)})
     with pytest.raises(CosimRunError, match=r"instance 'msd1.m1' \(.*\) has no variable 'x9'"):
         run(bad, msd)
+
+
+def test_maestros_own_multi_model_runs_unchanged(msd: dict[str, Path]) -> None:
+    """The INTO-CPS mass-spring-damper multi-model in Maestro 2's one-file shape
+    (tests/cosim_files/msd), read by the Maestro reader and run on our pair of FMUs."""
+    system = read_maestro(ROOT / "tests" / "cosim_files" / "msd" / "maestro2.json")
+    paths = {"MassSpringDamper1.fmu": msd["msd1.fmu"], "MassSpringDamper2.fmu": msd["msd2.fmu"]}
+    result = run(system, paths)
+    assert result.columns == ("time", "{msd2}.msd2i.x2", "{msd2}.msd2i.v2")
+    assert result.column("time")[-1] == system.end_time
+    # the file's parameters, the first FMU's own start values (m1 = c1 = 1, d1 = 0, x1 = 1)
+    params = {"m1": 1.0, "c1": 1.0, "d1": 0.0, "m2": 1.0, "c2": 1.0, "d2": 1.0}
+    reference = monolithic(result.column("time"), **params, cc=1.0, dc=1.0)
+    assert np.max(np.abs(result.column("{msd2}.msd2i.x2") - reference[1])) < 0.005

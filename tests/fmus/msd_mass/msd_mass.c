@@ -1,20 +1,20 @@
 /*
  * msd_mass.c - the first half of the two-mass spring-damper split into two FMUs (the INTO-CPS
- * mass-spring-damper example's msd1): mass m1 tied to the wall by spring k1 and damper c1,
+ * mass-spring-damper example's msd1): mass m1 tied to the wall by spring c1 and damper d1 (the INTO-CPS example's names),
  * pushed by the coupling force fk that the other FMU (msd_spring) computes:
- *     x1' = v1,  v1' = (fk - k1 x1 - c1 v1) / m1
+ *     x1' = v1,  v1' = (fk - c1 x1 - d1 v1) / m1
  * fk is held constant over a communication step, which is integrated with RK4 substeps fine
  * enough that the coupling, not this integrator, dominates a co-simulation's error.
  *
  * Value references: 0 x1, 1 v1 (outputs; their start values may be set), 2 fk (input),
- * 3 m1, 4 k1, 5 c1 (parameters).
+ * 3 m1, 4 c1, 5 d1 (parameters).
  */
 #define MODEL_GUID "{5d0c2a51-7f3e-4b8a-9e21-3c4d5e6f7a01}"
 #define N_REALS 6
 
 #include "fmi2cs.h"
 
-enum { VR_X = 0, VR_V = 1, VR_FK = 2, VR_M = 3, VR_K = 4, VR_C = 5 };
+enum { VR_X = 0, VR_V = 1, VR_FK = 2, VR_M = 3, VR_SPRING = 4, VR_DAMP = 5 };
 #define SUBSTEPS 16
 
 static void model_defaults(Instance *c) {
@@ -22,16 +22,16 @@ static void model_defaults(Instance *c) {
     c->r[VR_V] = 0.0;
     c->r[VR_FK] = 0.0;
     c->r[VR_M] = 1.0;
-    c->r[VR_K] = 1.0;
-    c->r[VR_C] = 0.0;
+    c->r[VR_SPRING] = 1.0;
+    c->r[VR_DAMP] = 0.0;
 }
 
-static int model_settable(fmi2ValueReference vr) { return vr <= VR_C; }
+static int model_settable(fmi2ValueReference vr) { return vr <= VR_DAMP; }
 
 static void model_outputs(Instance *c) { (void)c; }
 
 static double accel(const Instance *c, double x, double v) {
-    return (c->r[VR_FK] - c->r[VR_K] * x - c->r[VR_C] * v) / c->r[VR_M];
+    return (c->r[VR_FK] - c->r[VR_SPRING] * x - c->r[VR_DAMP] * v) / c->r[VR_M];
 }
 
 static fmi2Status model_do_step(Instance *c, fmi2Real h) {
