@@ -395,10 +395,14 @@ def test_yaml_mistakes_are_refused_with_their_line(
 
 
 def test_yaml_syntax_error_and_wrong_top_level(tmp_path: Path) -> None:
-    with pytest.raises(CosimFormatError, match=r"x.yaml: .*not valid YAML.*line 3"):
+    with pytest.raises(
+        CosimFormatError, match=r"x.yaml: line 3, column 1: while parsing a flow sequence"
+    ):
         read_yaml("x.yaml", text="instances:\n  a: [b\n")
     with pytest.raises(CosimFormatError, match="is not a mapping"):
         read_yaml("x.yaml", text="- 1\n")
+    with pytest.raises(CosimFormatError, match="holds 2 YAML documents; write one"):
+        read_yaml("x.yaml", text="a: 1\n---\nb: 2\n")
     with pytest.raises(CosimFormatError, match="instances and algorithm are required"):
         read_yaml("x.yaml", text="instances: {a: a.fmu}\n")
 

@@ -59,9 +59,11 @@ def read_yaml(source: Path | str, *, text: str | None = None) -> System:
     try:
         docs = parse_yaml_stream(text)
     except DocumentError as err:
-        raise CosimFormatError(f"{name}: {err.problem_detail()}") from err
+        # the title speaks of storing a document; here only its problems matter
+        problems = "; ".join(str(p) for p in err.problems) or err.title
+        raise CosimFormatError(f"{name}: {problems}") from err
     if len(docs) != 1:
-        raise CosimFormatError(f"{name}: holds {len(docs)} YAML documents, not one")
+        raise CosimFormatError(f"{name}: holds {len(docs)} YAML documents; write one")
     return _Reader(name, docs[0]).system()
 
 
