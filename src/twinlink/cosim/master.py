@@ -46,9 +46,9 @@ class Record:
 
 
 def stepping_order(system: System) -> tuple[str, ...]:
-    """The instances in Gauss-Seidel order: an instance after those that feed it where the
-    connections allow (Kahn's algorithm, ties in declared order); a cycle of connections (two
-    coupled FMUs) is broken at its first instance in declared order."""
+    """The instances in Gauss-Seidel order: an instance after those that feed it (Kahn's
+    algorithm, ties in declared order). A cycle of connections (two coupled FMUs) is broken
+    at its first instance in declared order, once nothing outside the cycle feeds it."""
     names = [i.name for i in system.instances]
     feeders: dict[str, set[str]] = {name: set() for name in names}
     for c in system.connections:
@@ -56,10 +56,30 @@ def stepping_order(system: System) -> tuple[str, ...]:
             feeders[c.target.instance].add(c.source.instance)
     order: list[str] = []
     while len(order) < len(names):
-        left = [n for n in names if n not in order]
-        ready = [n for n in left if not feeders[n] - set(order)]
-        order.append(ready[0] if ready else left[0])
+        placed = set(order)
+        left = [n for n in names if n not in placed]
+        ready = [n for n in left if feeders[n] <= placed]
+        order.append(ready[0] if ready else _cycle_start(left, feeders, placed))
     return tuple(order)
+
+
+def _cycle_start(left: list[str], feeders: dict[str, set[str]], placed: set[str]) -> str:
+    """The first instance (in declared order) of a cycle that only feeds itself: every
+    instance feeding it, directly or not, is placed or in its cycle."""
+    ancestors: dict[str, set[str]] = {}
+    for name in left:
+        seen: set[str] = set()
+        todo = [f for f in feeders[name] if f not in placed]
+        while todo:
+            f = todo.pop()
+            if f not in seen:
+                seen.add(f)
+                todo.extend(g for g in feeders[f] if g not in placed)
+        ancestors[name] = seen
+    for name in left:
+        if name in ancestors[name] and all(name in ancestors[a] for a in ancestors[name]):
+            return name
+    return left[0]  # not reached: some cycle is fed by nothing outside it
 
 
 def steps(system: System) -> list[float]:
