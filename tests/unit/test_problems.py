@@ -23,6 +23,8 @@ from twinlink.auth.service import AuthError, LoginError, ScopeError
 from twinlink.bus.kafka.bus import KafkaBusError
 from twinlink.bus.kafka.codec import UnencodableMessageError
 from twinlink.commands.targets import DeviceChoiceError
+from twinlink.cosim.model import CosimFormatError
+from twinlink.cosim.slaves import CosimRunError
 from twinlink.domain.errors import (
     ConflictError,
     ContentTooLargeError,
@@ -58,6 +60,8 @@ PROBLEM = "application/problem+json"
 PLAIN = {
     "twinlink.api.live._Gone",
     "twinlink.client.errors.ApiError",
+    "twinlink.cosim.slaves.FmuTerminated",
+    "twinlink.cosim.ssp._Refused",
     "twinlink.bus.kafka.codec.UndecodableRecordError",
     "twinlink.domain.yamlsource._IntTooLong",
     "twinlink.domain.yamlsource._TooLarge",
@@ -211,6 +215,8 @@ CASES = [
         headers=BUS_RETRY,
     ),
     Case(UnencodableMessageError("no form for a set"), 422, "no form for a set"),
+    Case(CosimFormatError("mm.json: fmus is not a map"), 422, "mm.json: fmus is not a map"),
+    Case(CosimRunError("msd1.m1 (mass.fmu) failed"), 422, "msd1.m1 (mass.fmu) failed"),
     Case(
         GatewayProblem(405, "the service 'x' allows GET", headers=[(b"allow", b"GET")]),
         405,

@@ -49,7 +49,8 @@ class CosimRunError(TwinlinkError):
 
 
 class FmuTerminated(Exception):
-    """An FMU asked to end the simulation; the step that asked is not recorded."""
+    """An FMU asked to end the simulation; the step that asked is not recorded. Control flow:
+    the runner ends the run with it, never an error of its own."""
 
 
 @dataclass(slots=True)
