@@ -32,10 +32,12 @@ class Port:
 class Instance:
     """An instance of an FMU. `name` is unique in the system ("msd1.m1" in Maestro, the
     component's name in SSP); `fmu` a file path relative to the document's folder (or inside
-    the SSP archive) or a `lib:` reference to the library."""
+    the SSP archive) or a `lib:` reference to the library. `isolated` asks for a process of
+    its own (Python FMUs always get one: two in one process break each other)."""
 
     name: str
     fmu: str
+    isolated: bool = False
 
 
 @dataclass(frozen=True, slots=True)
