@@ -115,6 +115,12 @@ export function useLiveSession(options: LiveSessionOptions): LiveSession {
     };
   }, [client, store, slug, windowS, paused, maxRate, serverNow]);
 
+  // Paused, the figures are final at once (the subscriptions were just closed above), rather
+  // than at the next refresh, which a busy browser may run late.
+  useEffect(() => {
+    if (paused) setSnapshot(takeSnapshot(store));
+  }, [paused, store]);
+
   useEffect(() => {
     setSnapshot(takeSnapshot(store));
     const timer = setInterval(() => setSnapshot(takeSnapshot(store)), SNAPSHOT_MS);
