@@ -3,6 +3,7 @@
     instances:                      # name -> FMU (a path relative to this file, or lib:...)
       msd1.m1: MassSpringDamper1.fmu
       msd2.m2: lib:msd/MassSpringDamper2
+      ctrl: {fmu: Controller.fmu, isolated: true}   # in a process of its own
     connections:                    # an output -> the inputs it feeds (a list, or one)
       msd1.m1.x1: [msd2.m2.x1]
       msd1.m1.v1: [msd2.m2.v1]
@@ -79,7 +80,10 @@ def to_yaml(system: System) -> str:
         algorithm["max_size"] = system.algorithm.max_size
     algorithm["master"] = system.algorithm.master
     data: dict[str, Any] = {
-        "instances": {i.name: i.fmu for i in system.instances},
+        "instances": {
+            i.name: {"fmu": i.fmu, "isolated": True} if i.isolated else i.fmu
+            for i in system.instances
+        },
         "connections": connections,
         "parameters": {str(port): value for port, value in system.parameters.items()},
         "log": {name: list(names) for name, names in system.log_variables.items()},
@@ -141,10 +145,20 @@ class _Reader:
 
     def _instances(self, raw: Any) -> tuple[Instance, ...]:
         out = []
-        for name, fmu in self.mapping(("instances",), raw).items():
+        for name, value in self.mapping(("instances",), raw).items():
+            path: YamlPath = ("instances", name)
+            fmu, isolated = value, False
+            if isinstance(value, dict):  # {fmu: file, isolated: true}
+                unknown = sorted(str(k) for k in set(value) - {"fmu", "isolated"})
+                if unknown:
+                    keys = ", ".join(unknown)
+                    raise self.fail(path, f"has unknown keys ({keys}); it takes fmu and isolated")
+                fmu, isolated = value.get("fmu"), value.get("isolated", False)
+                if not isinstance(isolated, bool):
+                    raise self.fail((*path, "isolated"), "is not true or false")
             if not isinstance(fmu, str) or not fmu:
-                raise self.fail(("instances", name), "is not an FMU path or lib: reference")
-            out.append(Instance(name=name, fmu=fmu))
+                raise self.fail(path, "is not an FMU path or lib: reference")
+            out.append(Instance(name=name, fmu=fmu, isolated=isolated))
         if not out:
             raise self.fail(("instances",), "is empty")
         return tuple(out)
