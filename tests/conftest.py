@@ -151,6 +151,10 @@ FMU_SOURCES = {
     "stair3": ROOT / "tests" / "fmus" / "stair" / "fmi3",
     "msd_mass": ROOT / "tests" / "fmus" / "msd_mass",
     "msd_spring": ROOT / "tests" / "fmus" / "msd_spring",
+    "incubator_plant": ROOT / "tests" / "fmus" / "incubator_plant",
+    "incubator_controller": ROOT / "tests" / "fmus" / "incubator_controller",
+    "incubator_kalman": ROOT / "tests" / "fmus" / "incubator_kalman",
+    "chain_mass": ROOT / "tests" / "fmus" / "chain_mass",
 }
 
 
@@ -175,6 +179,7 @@ class FmuFiles:
 def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
     """`fmu_files(name)` is the path of the built FMU: "tingen" (FMI 2.0, examples/tingen/fmu),
     "tingen3" (FMI 3.0, examples/tingen/fmu3), or "crash", "leak", "status", "stair" (FMI 2.0)
-    and "stair3" (FMI 3.0) (tests/fmus), and the co-simulated mass-spring-damper pair
-    "msd_mass" and "msd_spring" (FMI 2.0)."""
+    and "stair3" (FMI 3.0) (tests/fmus), the co-simulated mass-spring-damper pair
+    "msd_mass" and "msd_spring", the Incubator's "incubator_plant", "incubator_controller" and
+    "incubator_kalman", and "chain_mass", one mass of a chain (FMI 2.0)."""
     return FmuFiles(tmp_path_factory.mktemp("fmus"))
