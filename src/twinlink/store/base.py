@@ -23,13 +23,14 @@ from twinlink.domain.records import (
     User,
     Visibility,
 )
+from twinlink.store.cosims import CosimStore
 from twinlink.store.deployments import DeploymentStore
 from twinlink.store.library import LibraryStore
 from twinlink.store.runs import RunStore
 from twinlink.store.search import SearchStore
 
 
-class MetadataStore(SearchStore, DeploymentStore, LibraryStore, RunStore, Protocol):
+class MetadataStore(SearchStore, DeploymentStore, LibraryStore, RunStore, CosimStore, Protocol):
     async def open(self) -> None: ...
     async def close(self) -> None: ...
     async def ping(self) -> bool: ...

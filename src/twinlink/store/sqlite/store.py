@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from twinlink.store.sqlite.connectors import ConnectorTables
+from twinlink.store.sqlite.cosims import CosimTables
 from twinlink.store.sqlite.db import Database
 from twinlink.store.sqlite.deployments import DeploymentTables
 from twinlink.store.sqlite.devices import DeviceTables
@@ -29,6 +30,7 @@ class SqliteStore(
     DeploymentTables,
     LibraryTables,
     RunTables,
+    CosimTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""

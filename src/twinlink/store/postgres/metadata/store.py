@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from twinlink.store.postgres.db import PostgresDatabase
 from twinlink.store.postgres.metadata.connectors import ConnectorTables
+from twinlink.store.postgres.metadata.cosims import CosimTables
 from twinlink.store.postgres.metadata.deployments import DeploymentTables
 from twinlink.store.postgres.metadata.devices import DeviceTables
 from twinlink.store.postgres.metadata.gateway import GatewayTables
@@ -27,6 +28,7 @@ class PostgresMetadataStore(
     DeploymentTables,
     LibraryTables,
     RunTables,
+    CosimTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""
