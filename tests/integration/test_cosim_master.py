@@ -153,7 +153,8 @@ def test_a_stop_ends_the_run_between_steps_with_the_rows_so_far(msd: dict[str, P
 
 def test_an_fmi3_fmu_that_terminates_ends_the_run_with_its_rows(fmu_files: FmuFiles) -> None:
     """The FMI 3 Stair (Reference-FMUs) asks to terminate at t = 9 s: the run ends there,
-    naming it, with the rows recorded up to the step before."""
+    naming it, with the rows recorded up to and including the terminating step (as the FMU
+    blueprint does)."""
     system = System(
         instances=(Instance("stair", "Stair.fmu"),),
         connections=(),
@@ -167,8 +168,8 @@ def test_an_fmi3_fmu_that_terminates_ends_the_run_with_its_rows(fmu_files: FmuFi
     assert result.columns == ("time", "stair.counter")
     assert "instance 'stair'" in result.ended and "terminate" in result.ended
     times, counter = result.column("time"), result.column("stair.counter")
-    assert 8.0 <= times[-1] < 9.0 and times[0] == 0.0
-    assert counter[0] == 1.0 and counter[-1] == math.floor(times[-1]) + 1
+    assert times[-1] == 9.0 and times[-2] == 8.5 and times[0] == 0.0
+    assert counter[0] == 1.0 and counter[-2] == 9.0 and counter[-1] == 10.0
 
 
 def test_an_fmu_that_fails_to_instantiate_is_named_and_nothing_is_left(

@@ -13,7 +13,6 @@ assignment per instance and type.
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -21,7 +20,8 @@ import numpy as np
 import numpy.typing as npt
 
 from .model import System
-from .slaves import Buffer, Slave
+from .protocol import SlaveLike
+from .slaves import Buffer, FmuTerminated
 
 Progress = Callable[[float], None]
 
@@ -86,73 +86,79 @@ def steps(system: System) -> list[float]:
     """The communication points from start to end time: a fixed step, the last one shorter
     if the span is not a whole number of steps."""
     start, end, h = system.start_time, system.end_time, system.algorithm.size
-    assert end is not None  # runner.run checks it
+    assert end is not None  # Session checks it
     n = max(1, math.ceil((end - start) / h - 1e-9))
     return [min(start + k * h, end) for k in range(n + 1)]
 
 
 class Master:
-    """Steps the slaves with the system's algorithm and records a row per communication point."""
+    """Steps the slaves, in stepping order, with the system's algorithm (Jacobi or
+    Gauss-Seidel) and fills a row with the recorded outputs."""
 
     def __init__(
         self,
-        slaves: Sequence[Slave],
+        slaves: Sequence[SlaveLike],
         incoming: dict[str, list[Link]],
         records: Sequence[Record],
-        table: npt.NDArray[np.float64],
         jacobi: bool,
     ) -> None:
         self.slaves = slaves  # in stepping order
         self.incoming = [incoming.get(s.name, []) for s in slaves]
         self.records = records
-        self.table = table
         self.jacobi = jacobi
+        self.terminated: FmuTerminated | None = None  # the first FMU that asked to end
+        self.short: SlaveLike | None = None  # the last slave that did not reach a step's end
+        self._pairs = list(zip(self.slaves, self.incoming, strict=True))
 
     def exchange_initial(self) -> None:
         """In initialization mode: inputs from outputs, in stepping order."""
-        for slave, links in zip(self.slaves, self.incoming, strict=True):
+        for slave, links in self._pairs:
             _copy(links)
             slave.write()
             slave.read()
 
-    def record(self, row: int, t: float) -> None:
-        out = self.table[row]
-        out[0] = t
-        for r in self.records:
-            out[r.columns] = r.buffer[r.indexes]
-
-    def run(
-        self, times: Sequence[float], progress: Progress | None, stop: threading.Event | None
-    ) -> int:
-        """Step from times[0] to times[-1], recording each point; returns the rows recorded
-        (fewer than len(times) if stopped). Raises FmuTerminated or CosimRunError."""
+    def read(self) -> None:
         for slave in self.slaves:
             slave.read()
-        self.record(0, times[0])
-        pairs = list(zip(self.slaves, self.incoming, strict=True))
-        every = max(1, (len(times) - 1) // 100)
-        for k in range(1, len(times)):
-            if stop is not None and stop.is_set():
-                return k
-            t, h = times[k - 1], times[k] - times[k - 1]
-            if self.jacobi:
-                for _, links in pairs:
-                    _copy(links)
-                for slave, _ in pairs:
-                    slave.write()
-                    slave.step(t, h)
-                for slave, _ in pairs:
-                    slave.read()
-            else:
-                for slave, links in pairs:
-                    _copy(links)
-                    slave.write()
-                    slave.step(t, h)
-                    slave.read()
-            self.record(k, times[k])
-            if progress is not None and k % every == 0:
-                progress(k / (len(times) - 1))
-        return len(times)
+
+    def fill(self, row: npt.NDArray[np.float64], t: float) -> None:
+        row[0] = t
+        for r in self.records:
+            row[r.columns] = r.buffer[r.indexes]
+
+    def step(self, t: float, h: float) -> float:
+        """One macro step from t by h with every slave, their outputs read at its end;
+        returns the earliest time a slave reached (t + h unless one returned early,
+        discarded or terminated). An FMU asking to terminate does not stop the others'
+        step: it is kept in `terminated`, and the step's row is recorded as usual."""
+        reached = t + h
+        if self.jacobi:
+            for links in self.incoming:
+                _copy(links)
+            for slave in self.slaves:
+                slave.write()
+                try:
+                    got = slave.step(t, h)
+                except FmuTerminated as done:
+                    self.terminated = self.terminated or done
+                    got = done.time
+                if got < reached:
+                    reached, self.short = got, slave
+            for slave in self.slaves:
+                slave.read()
+        else:
+            for slave, links in self._pairs:
+                _copy(links)
+                slave.write()
+                try:
+                    got = slave.step(t, h)
+                except FmuTerminated as done:
+                    self.terminated = self.terminated or done
+                    got = done.time
+                if got < reached:
+                    reached, self.short = got, slave
+                slave.read()
+        return reached
 
 
 def _copy(links: list[Link]) -> None:

@@ -49,8 +49,13 @@ class CosimRunError(TwinlinkError):
 
 
 class FmuTerminated(Exception):
-    """An FMU asked to end the simulation; the step that asked is not recorded. Control flow:
-    the runner ends the run with it, never an error of its own."""
+    """An FMU asked to end the simulation in a step; `time` is where it got to. Control flow:
+    the master finishes that step (its row is recorded, at `time`) and ends the run with it,
+    never an error of its own."""
+
+    def __init__(self, message: str, time: float) -> None:
+        super().__init__(message)
+        self.time = time
 
 
 @dataclass(slots=True)
@@ -83,6 +88,10 @@ class Slave:
         with self._errors("cannot be used"):
             fmpy.extract(str(fmu_path), str(unzipdir))
             self.fmu, self.api = instantiate(self.info, "CoSimulation", unzipdir, self.log, name)
+            cs = fmpy.read_model_description(str(unzipdir), validate=False).coSimulation
+        # FMI 2 canGetAndSetFMUstate, FMI 3 canGetAndSetFMUState: the var-step master's
+        # rollback of a rejected step needs it
+        self.can_rollback = bool(getattr(cs, "canGetAndSetFMUstate", False))
         self._outputs: dict[str, Group] = {}
         self._inputs: dict[str, Group] = {}
 
@@ -148,7 +157,8 @@ class Slave:
         with self._errors("refused a start value"):
             set_values(self.fmu, self.fmi3, typed, self.log)
 
-    def enter_initialization(self, start: float, stop: float) -> None:
+    def enter_initialization(self, start: float, stop: float | None) -> None:
+        """`stop` None: an open end (FMI 2 stopTimeDefined false; FMI 3 likewise)."""
         with self._errors("failed to enter initialization"), fmi_errors(self.log):
             if self.fmi3:
                 self.fmu.enterInitializationMode(startTime=start, stopTime=stop)
@@ -173,18 +183,43 @@ class Slave:
             if status > WARNING:
                 self._fail(self.api.function("Set", group.type), status)
 
-    def step(self, t: float, h: float) -> None:
+    def step(self, t: float, h: float) -> float:
+        """Step from t by h; the time reached: t + h, or less after an FMI 3 early return or
+        an fmi2Discard (its last successful time). Raises FmuTerminated, CosimRunError."""
         status = self.api.do_step(t, h)
         if status <= WARNING:
-            return
-        if status == TERMINATE or (status == DISCARD and self.api.discarded(t)[0]):
-            raise FmuTerminated(f"{self.label} asked to terminate in the step from t = {t:g} s")
-        if status == EARLY_RETURN:  # asked for by the FMU blueprint's instantiate, unused here
-            raise CosimRunError(
-                f"{self.label}: fmi3DoStep returned early in the step from t = {t:g} s; "
-                "a fixed-step master cannot continue from a step cut short"
-            )
+            return t + h
+        if status in (DISCARD, TERMINATE, EARLY_RETURN):
+            terminated, reached = self.api.discarded(t)
+            reached = min(max(reached, t), t + h)
+            if status == TERMINATE or terminated:
+                raise FmuTerminated(
+                    f"{self.label} asked to terminate at t = {reached:g} s "
+                    f"(in the step from t = {t:g} s)",
+                    reached,
+                )
+            return reached
         self._fail(f"{self.api.prefix}DoStep", status, f" at t = {t:g} s")
+        return t  # not reached: _fail raises
+
+    def save_state(self) -> object:
+        """The FMU's whole state (fmi2GetFMUstate / fmi3GetFMUState), for restore_state."""
+        with self._errors("cannot save its state"), fmi_errors(self.log):
+            return self.fmu.getFMUState() if self.fmi3 else self.fmu.getFMUstate()
+
+    def restore_state(self, state: object) -> None:
+        with self._errors("cannot restore its state"), fmi_errors(self.log):
+            if self.fmi3:
+                self.fmu.setFMUState(state)
+            else:
+                self.fmu.setFMUstate(state)
+
+    def free_state(self, state: object) -> None:
+        with self._errors("cannot free a saved state"), fmi_errors(self.log):
+            if self.fmi3:
+                self.fmu.freeFMUState(state)
+            else:
+                self.fmu.freeFMUstate(state)
 
     def _fail(self, function: str, status: int, when: str = "") -> None:
         err = fmi_failure(function, status, self.log, when)

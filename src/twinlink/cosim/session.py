@@ -1,0 +1,295 @@
+"""An opened co-simulation, stepped by whoever drives it: the batch runner (runner.run), the
+paced runner (pacing.py), the processor blueprint (mode 3, inputs from live data).
+
+`Session(system, fmu_paths)` checks the system (times, step sizes, ports naming instances,
+algebraic loops), opens every instance (kinds.open_slave), wires the connections and the
+recorded columns, and sets the parameters; `initialize()` enters and leaves initialization
+mode with the connections exchanged once and gives the row at the start time; each `step()`
+gives the row of one macro step, until `None` once the end time is reached or an FMU asked to
+terminate. `close()` (or leaving `with Session(...)`) terminates and frees every instance and
+removes the extracted files, whatever happened.
+
+A row is `[t, v1, v2, ...]` in the order of `columns` ("time" then Maestro's names of the
+recorded variables), a new float64 array per step that the caller may keep.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import shutil
+import tempfile
+from collections import defaultdict
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from types import TracebackType
+
+import fmpy  # type: ignore[import-untyped]
+import numpy as np
+import numpy.typing as npt
+
+from twinlink.domain.errors import InvalidInputError
+from twinlink.processors.fmuinfo import Scalar
+
+from .graph import algebraic_loops, describe_loop, feedthrough_of
+from .kinds import open_slave
+from .master import Link, Master, Record, stepping_order
+from .model import Port, System
+from .protocol import SlaveLike
+from .results import column_name
+from .slaves import Buffer, CosimRunError, Group
+
+__all__ = ["CosimRunError", "Session", "check"]
+
+_log = logging.getLogger("twinlink.cosim")
+Row = npt.NDArray[np.float64]
+
+
+class Session:
+    """An opened co-simulation stepped by whoever drives it (batch runner, paced runner,
+    processor blueprint)."""
+
+    def __init__(
+        self,
+        system: System,
+        fmu_paths: Mapping[str, Path],
+        *,
+        external_inputs: Sequence[Port] = (),
+    ) -> None:
+        """Raises InvalidInputError for a system that cannot run (before any FMU is loaded,
+        except an algebraic loop: found from the FMUs' own feedthrough once they are open),
+        CosimRunError naming the instance whose FMU cannot be used."""
+        check(system, fmu_paths, external_inputs)
+        self.system = system
+        self.time = system.start_time
+        self.ended = ""
+        self.steps = 0  # macro steps taken (var-step: accepted ones)
+        self.warnings: list[str] = []  # what the run does not do as the file asks
+        self._slaves: list[SlaveLike] = []
+        self._workdir = Path(tempfile.mkdtemp(prefix="twinlink-cosim-"))
+        self._initialized = False
+        self._done = False
+        try:
+            by_name = {i.name: i for i in system.instances}
+            for k, name in enumerate(stepping_order(system)):
+                instance = by_name[name]
+                path = Path(fmu_paths[instance.fmu])
+                self._slaves.append(open_slave(instance, path, self._workdir / str(k)))
+            _refuse_loops(system, fmu_paths)
+            self._master, self.columns, self._external = _wire(
+                system, self._slaves, external_inputs
+            )
+            values: dict[str, list[tuple[str, Scalar]]] = defaultdict(list)
+            for port, value in system.parameters.items():
+                values[port.instance].append((port.variable, value))
+            for slave in self._slaves:
+                slave.set_start_values(values[slave.name])
+        except BaseException:
+            self.close()
+            raise
+        self._ncols = len(self.columns)
+        algorithm = system.algorithm
+        self._h = algorithm.size
+        self._last = _last_step(system)  # the index of the last fixed step, None: open end
+
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        err: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def initialize(self) -> Row:
+        """Initialize every instance (start values set, connections exchanged once in
+        initialization mode) and return the row at the start time."""
+        end = self.system.end_time
+        for slave in self._slaves:
+            slave.enter_initialization(self.time, end)
+        self._master.exchange_initial()
+        for slave in self._slaves:
+            slave.exit_initialization()
+        self._initialized = True
+        self._master.read()
+        row = np.empty(self._ncols)
+        self._master.fill(row, self.time)
+        return row
+
+    def set_inputs(self, values: Mapping[Port, float | int | bool]) -> None:
+        """Set external inputs (those given to the constructor); they hold until set again
+        and reach their FMUs at the next step."""
+        for port, value in values.items():
+            target = self._external.get(port)
+            if target is None:
+                known = ", ".join(str(p) for p in self._external) or "none"
+                raise InvalidInputError(
+                    f"{port} is not an external input of this co-simulation (they are: {known})"
+                )
+            buffer, index = target
+            buffer[index] = value
+
+    def step(self) -> Row | None:
+        """One macro step; its row. None once the end time is reached or an FMU asked to
+        terminate (`ended` then says which and when; the terminating step's row is returned
+        first, at the time that FMU reached)."""
+        if self._done:
+            return None
+        if not self._initialized:
+            raise RuntimeError("Session.initialize() must be called before step()")
+        t, k = self.time, self.steps + 1
+        t_next = self.system.start_time + k * self._h
+        end = self.system.end_time
+        if end is not None and t_next > end:
+            t_next = end
+        master = self._master
+        reached = master.step(t, t_next - t)
+        if reached < t_next - 4 * math.ulp(t_next):
+            if master.terminated is None:
+                raise _cut_short(master, t)
+            t_next = reached
+        row = np.empty(self._ncols)
+        master.fill(row, t_next)
+        self.time, self.steps = t_next, k
+        if master.terminated is not None:
+            self.ended = str(master.terminated)
+            self._done = True
+        elif self._last is not None and k >= self._last:
+            self._done = True
+        return row
+
+    def close(self) -> None:
+        """Terminate and free every instance and remove the extracted files; never raises,
+        and a second call does nothing."""
+        slaves, self._slaves = self._slaves, []
+        for slave in reversed(slaves):
+            try:
+                slave.close()
+            except Exception as err:  # a slave's close should not raise; never let it
+                _log.warning("%s: closing failed: %s", slave.label, err)
+        shutil.rmtree(self._workdir, ignore_errors=True)
+
+
+def check(
+    system: System, fmu_paths: Mapping[str, Path], external_inputs: Sequence[Port] = ()
+) -> None:
+    """What can be checked of a system without its FMUs; InvalidInputError saying what."""
+    algorithm = system.algorithm
+    if algorithm.kind != "fixed-step":
+        raise InvalidInputError(
+            f"the {algorithm.kind} algorithm is not supported yet; use fixed-step"
+        )
+    if not algorithm.size > 0:
+        raise InvalidInputError(f"the step size must be positive, not {algorithm.size}")
+    if system.end_time is not None and not system.end_time > system.start_time:
+        raise InvalidInputError(
+            f"the end time ({system.end_time:g}) must be after the start time "
+            f"({system.start_time:g})"
+        )
+    names = {i.name for i in system.instances}
+    for instance in system.instances:
+        if instance.fmu not in fmu_paths:
+            raise InvalidInputError(
+                f"instance {instance.name!r}: no file for its FMU {instance.fmu!r}"
+            )
+    targets = {c.target for c in system.connections}
+    ports = [c.source for c in system.connections] + list(targets)
+    ports += list(system.parameters) + list(external_inputs)
+    ports += [Port(name, "") for name in system.log_variables]
+    for port in ports:
+        if port.instance not in names:
+            raise InvalidInputError(f"{port} names no instance of the system")
+    for port in external_inputs:
+        if port in targets:
+            raise InvalidInputError(
+                f"{port} is fed by a connection; it cannot also be an external input"
+            )
+
+
+def _last_step(system: System) -> int | None:
+    """The number of fixed steps from start to end (the last one shorter if the span is not a
+    whole number of steps), as master.steps counts them; None for an open end."""
+    if system.end_time is None:
+        return None
+    span = (system.end_time - system.start_time) / system.algorithm.size
+    return max(1, math.ceil(span - 1e-9))
+
+
+def _refuse_loops(system: System, fmu_paths: Mapping[str, Path]) -> None:
+    """InvalidInputError naming the algebraic loops, from each FMU's declared feedthrough:
+    a master stepping FMUs one value per step cannot solve them."""
+    fmus = {i.name: i.fmu for i in system.instances}
+    cache: dict[str, dict[str, set[str]] | None] = {}
+
+    def feedthrough(instance: str) -> Mapping[str, set[str]] | None:
+        fmu = fmus[instance]
+        if fmu not in cache:
+            try:
+                md = fmpy.read_model_description(str(fmu_paths[fmu]), validate=False)
+                cache[fmu] = feedthrough_of(md)
+            except Exception:  # already opened once; unknown counts as direct
+                cache[fmu] = None
+        return cache[fmu]
+
+    loops = algebraic_loops(system, feedthrough)
+    if loops:
+        named = "; ".join(describe_loop(loop) for loop in loops)
+        raise InvalidInputError(
+            f"the connections form {'an algebraic loop' if len(loops) == 1 else 'algebraic loops'}"
+            f" (outputs depending directly on inputs they feed): {named}. The masters cannot "
+            "solve them; cut each loop, e.g. with an FMU whose output depends on a state"
+        )
+
+
+def _cut_short(master: Master, t: float) -> CosimRunError:
+    who = master.short.label if master.short is not None else "an instance"
+    return CosimRunError(
+        f"{who} ended the step from t = {t:g} s early (an FMI 3 early return or an "
+        "fmi2Discard); a fixed-step master cannot continue from a step cut short: use the "
+        "var-step algorithm"
+    )
+
+
+def _wire(
+    system: System, slaves: Sequence[SlaveLike], external: Sequence[Port]
+) -> tuple[Master, tuple[str, ...], dict[Port, tuple[Buffer, int]]]:
+    """The master over `slaves` with its links and records, the recorded columns and the
+    external inputs' buffers."""
+    by_name = {s.name: s for s in slaves}
+    # Ports first (each adds its variable to a buffer), then the buffers, then the links.
+    pending: dict[str, list[tuple[tuple[Group, int], tuple[Group, int]]]] = defaultdict(list)
+    for c in system.connections:
+        source = by_name[c.source.instance].port(c.source.variable, into=False)
+        target = by_name[c.target.instance].port(c.target.variable, into=True)
+        pending[c.target.instance].append((source, target))
+    inputs = {p: by_name[p.instance].port(p.variable, into=True) for p in external}
+    columns = ["time"]
+    recorded = []
+    for instance, variables in system.log_variables.items():
+        for variable in variables:
+            recorded.append(by_name[instance].port(variable, into=False))
+            columns.append(column_name(system, Port(instance, variable)))
+    for slave in slaves:
+        slave.bind()
+    links = {
+        name: [Link(sg.buffer, si, tg.buffer, ti) for (sg, si), (tg, ti) in pairs]
+        for name, pairs in pending.items()
+    }
+    jacobi = system.algorithm.master == "jacobi"
+    master = Master(slaves, links, _records(recorded), jacobi)
+    return master, tuple(columns), {p: (g.buffer, i) for p, (g, i) in inputs.items()}
+
+
+def _records(recorded: list[tuple[Group, int]]) -> list[Record]:
+    """Recorded ports grouped by buffer, so a row is one numpy assignment per buffer."""
+    groups: dict[int, tuple[Group, list[int], list[int]]] = {}
+    for column, (group, index) in enumerate(recorded, start=1):
+        entry = groups.setdefault(id(group), (group, [], []))
+        entry[1].append(index)
+        entry[2].append(column)
+    return [
+        Record(group.buffer, np.array(ix, dtype=np.intp), np.array(cols, dtype=np.intp))
+        for group, ix, cols in groups.values()
+    ]

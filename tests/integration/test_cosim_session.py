@@ -1,0 +1,128 @@
+"""A co-simulation Session stepped by its caller: rows step by step, an open end, external
+inputs, algebraic loops refused, termination, and everything freed whatever happens."""
+
+from __future__ import annotations
+
+import itertools
+import tempfile
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import FmuFiles
+from tests.integration.test_cosim_master import MASS, msd_system
+from twinlink.cosim.model import Algorithm, Instance, Port, System
+from twinlink.cosim.runner import run
+from twinlink.cosim.session import Session
+from twinlink.domain.errors import InvalidInputError
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture(scope="module")
+def msd(fmu_files: FmuFiles) -> dict[str, Path]:
+    return {"msd1.fmu": fmu_files("msd_mass"), "msd2.fmu": fmu_files("msd_spring")}
+
+
+def mass_alone(end: float | None) -> System:
+    """The first mass with its coupling force `fk` left unconnected (an external input)."""
+    return System(
+        instances=(MASS,),
+        connections=(),
+        parameters={Port(MASS.name, "x1"): 0.5, Port(MASS.name, "c1"): 4.0},
+        log_variables={MASS.name: ("x1", "fk")},
+        algorithm=Algorithm("fixed-step", 0.01),
+        end_time=end,
+        source="yaml",
+    )
+
+
+def test_a_session_gives_the_rows_the_batch_run_records(msd: dict[str, Path]) -> None:
+    system = replace(msd_system("gauss-seidel", 0.05), end_time=2.0)
+    with Session(system, msd) as session:
+        rows = [session.initialize()]
+        while (row := session.step()) is not None:
+            rows.append(row)
+        assert session.step() is None and session.ended == "" and session.time == 2.0
+        columns = session.columns
+    result = run(system, msd)
+    assert columns == result.columns
+    assert np.array_equal(np.vstack(rows), result.values)
+    assert len(rows) == 41 and rows[-1][0] == 2.0
+
+
+def test_an_open_end_steps_for_as_long_as_asked(msd: dict[str, Path]) -> None:
+    """end_time None (mode 3): the FMUs are told no stop time and stepping never ends by
+    itself, here well past the FMUs' default experiment's stop time of 10 s."""
+    system = replace(msd_system("jacobi", 0.5), end_time=None)
+    with Session(system, msd) as session:
+        session.initialize()
+        rows = [session.step() for _ in range(40)]
+    times = [row[0] for row in rows if row is not None]
+    assert times == pytest.approx([0.5 * k for k in range(1, 41)]) and len(times) == 40
+
+
+def test_external_inputs_hold_until_set_again(msd: dict[str, Path]) -> None:
+    """fk = c1 x1 holds the mass still where it starts; fk = 0 lets it go."""
+    fk = Port(MASS.name, "fk")
+    with Session(mass_alone(None), msd, external_inputs=[fk]) as session:
+        session.set_inputs({fk: 4.0 * 0.5})
+        session.initialize()
+        still = [session.step() for _ in range(10)]
+        session.set_inputs({fk: 0.0})
+        moving = [session.step() for _ in range(10)]
+    assert session.columns == ("time", "msd1.m1.x1", "msd1.m1.fk")
+    assert all(row is not None and row[1] == 0.5 and row[2] == 2.0 for row in still)
+    x = [row[1] for row in moving if row is not None]
+    assert len(x) == 10 and x[0] < 0.5 and all(b < a for a, b in itertools.pairwise(x))
+
+
+def test_an_external_input_must_be_one_the_session_was_given(msd: dict[str, Path]) -> None:
+    fk, c1 = Port(MASS.name, "fk"), Port(MASS.name, "c1")
+    refused = pytest.raises(InvalidInputError, match=r"msd1\.m1\.c1 is not an external input")
+    with Session(mass_alone(1.0), msd, external_inputs=[fk]) as session, refused:
+        session.set_inputs({c1: 1.0})
+    connected = msd_system("jacobi", 0.1)
+    with pytest.raises(InvalidInputError, match="fed by a connection"):
+        Session(connected, msd, external_inputs=[Port(MASS.name, "fk")])
+    with pytest.raises(InvalidInputError, match=r"msd9\.x names no instance"):
+        Session(connected, msd, external_inputs=[Port("msd9", "x")])
+
+
+def test_the_terminating_step_is_returned_then_none(fmu_files: FmuFiles) -> None:
+    system = System(
+        instances=(Instance("stair", "Stair.fmu"),),
+        connections=(),
+        parameters={},
+        log_variables={"stair": ("counter",)},
+        algorithm=Algorithm("fixed-step", 0.5),
+        end_time=None,
+        source="yaml",
+    )
+    with Session(system, {"Stair.fmu": fmu_files("stair3")}) as session:
+        session.initialize()
+        rows = []
+        while (row := session.step()) is not None:
+            rows.append(row)
+        assert session.ended == (
+            "instance 'stair' (stair3.fmu) asked to terminate at t = 9 s "
+            "(in the step from t = 8.5 s)"
+        )
+        assert session.step() is None
+    assert rows[-1].tolist() == [9.0, 10.0] and len(rows) == 18
+
+
+def test_close_frees_everything_and_may_be_called_twice(
+    msd: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    session = Session(msd_system("jacobi", 0.1), msd)
+    session.initialize()
+    session.step()
+    assert str(tmp_path) in Path("/proc/self/maps").read_text()
+    session.close()
+    session.close()
+    assert list(tmp_path.iterdir()) == []
+    assert str(tmp_path) not in Path("/proc/self/maps").read_text()
