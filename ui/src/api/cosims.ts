@@ -1,0 +1,169 @@
+// Co-simulations (issue 17): made from an uploaded file (a Maestro multi-model, twinlink's
+// YAML form, or a folder as a zip or tar: an SSP archive or a document beside its FMUs), run
+// by the server in a process of their own, their results as a chart and as Maestro's CSV.
+import { apiFetch, apiRequest } from "./client";
+
+export type CosimState = "created" | "running" | "finished" | "stopped" | "failed";
+export type CosimMode = "batch" | "realtime";
+export type InstanceKind = "co-simulation" | "model-exchange" | "python";
+
+export interface CosimInstance {
+  name: string;
+  fmu: string;
+  kind: InstanceKind | string;
+  isolated: boolean;
+}
+
+/** A port as the API writes it: "instance.variable" (an instance's name may hold dots itself,
+ * "msd1.m1" in Maestro), or the two parts. */
+export type PortRef = string | { instance: string; variable: string };
+
+export interface CosimConnection {
+  source: PortRef;
+  target: PortRef;
+}
+
+export interface CosimAlgorithm {
+  kind: "fixed-step" | "var-step" | string;
+  size: number;
+  min_size?: number | null;
+  max_size?: number | null;
+  master: "jacobi" | "gauss-seidel" | string;
+}
+
+export interface CosimSystem {
+  source: string;
+  instances: CosimInstance[];
+  connections: CosimConnection[];
+  algorithm: CosimAlgorithm;
+  start_time: number;
+  end_time?: number | null;
+  /** The algebraic loops, each as its ports in order from an output (the last feeds the first). */
+  loops: PortRef[][];
+}
+
+export interface Cosim {
+  id: string | number;
+  name: string;
+  owner: string;
+  twin?: string | null;
+  prefix?: string | null;
+  mode: CosimMode | string;
+  factor: number;
+  state: CosimState;
+  /** 0 to 1. */
+  progress: number;
+  /** The simulated time reached, in seconds. */
+  sim_time?: number | null;
+  message?: string | null;
+  created_at?: number | string | null;
+  started_at?: number | string | null;
+  ended_at?: number | string | null;
+  system: CosimSystem;
+  columns: string[];
+  rows?: number | null;
+}
+
+/** The results column-major as uPlot takes them: `data[0]` the time, then one array per column
+ * after "time" in `columns`. */
+export interface CosimResults {
+  columns: string[];
+  data: (number | null)[][];
+}
+
+export interface CosimRequest {
+  file: File;
+  name: string;
+  twin?: string;
+  prefix?: string;
+  mode: CosimMode;
+  factor: number;
+}
+
+const enc = encodeURIComponent;
+const BASE = "/api/v1/cosims";
+
+/** The Content-Type the server reads a file by, from its name; null for one it does not take. */
+export function contentTypeOf(filename: string): string | null {
+  const name = filename.toLowerCase();
+  if (name.endsWith(".json")) return "application/json";
+  if (name.endsWith(".yaml") || name.endsWith(".yml")) return "application/yaml";
+  if (name.endsWith(".zip") || name.endsWith(".ssp")) return "application/zip";
+  if (name.endsWith(".tar.gz") || name.endsWith(".tgz")) return "application/gzip";
+  if (name.endsWith(".tar")) return "application/x-tar";
+  return null;
+}
+
+/** A co-simulation's name from its file's: "Multi-models/msd mm.json" -> "msd-mm". */
+export function nameFromFile(filename: string): string {
+  const stem = filename.replace(/^.*[\\/]/, "").replace(/\.(tar\.gz|tgz|zip|ssp|tar|json|ya?ml)$/i, "");
+  return stem.toLowerCase().replace(/[^a-z0-9._-]+/g, "-").replace(/^[^a-z0-9]+|-+$/g, "").slice(0, 100);
+}
+
+export async function listCosims(signal?: AbortSignal): Promise<Cosim[]> {
+  const answer = await apiFetch<{ cosims: Cosim[] } | Cosim[]>(BASE, { signal });
+  return Array.isArray(answer) ? answer : answer.cosims;
+}
+
+export function getCosim(id: string, signal?: AbortSignal): Promise<Cosim> {
+  return apiFetch<Cosim>(`${BASE}/${enc(id)}`, { signal });
+}
+
+/** Create one from a file: the File is the request's body, so the browser streams it from disk. */
+export function createCosim(request: CosimRequest, signal?: AbortSignal): Promise<Cosim> {
+  const contentType = contentTypeOf(request.file.name) ?? "application/octet-stream";
+  return apiFetch<Cosim>(BASE, {
+    method: "POST",
+    query: {
+      name: request.name,
+      twin: request.twin,
+      prefix: request.twin ? request.prefix : undefined,
+      mode: request.mode,
+      factor: request.mode === "realtime" ? request.factor : undefined,
+    },
+    body: request.file,
+    contentType,
+    signal,
+  });
+}
+
+/** Start (or start again: new results); without options it runs as it was created. */
+export function startCosim(id: string, options?: { mode: CosimMode; factor: number }): Promise<Cosim> {
+  return apiFetch<Cosim>(`${BASE}/${enc(id)}/start`, { method: "POST", json: options });
+}
+
+export function stopCosim(id: string): Promise<Cosim> {
+  return apiFetch<Cosim>(`${BASE}/${enc(id)}/stop`, { method: "POST" });
+}
+
+export function deleteCosim(id: string): Promise<void> {
+  return apiFetch<void>(`${BASE}/${enc(id)}`, { method: "DELETE" });
+}
+
+export function getResults(id: string, maxPoints = 2000, signal?: AbortSignal): Promise<CosimResults> {
+  return apiFetch<CosimResults>(`${BASE}/${enc(id)}/results`, { query: { max_points: maxPoints }, signal });
+}
+
+/** Download Maestro's outputs.csv: fetched with the token (a plain link would carry none),
+ * then saved from a blob URL. */
+export async function downloadCsv(id: string, name: string): Promise<void> {
+  const response = await apiRequest(`${BASE}/${enc(id)}/results.csv`, { accept: "text/csv" });
+  const blob = await response.blob();
+  const url = URL.createObjectURL(blob);
+  try {
+    const link = document.createElement("a");
+    link.href = url;
+    link.download = `${name || "cosim"}-outputs.csv`;
+    document.body.appendChild(link);
+    link.click();
+    link.remove();
+  } finally {
+    // the click has handed the blob to the download; revoke after the current task
+    setTimeout(() => URL.revokeObjectURL(url), 0);
+  }
+}
+
+/** Whether a co-simulation may still change by itself. */
+export function isRunning(cosim: Pick<Cosim, "state">): boolean {
+  return cosim.state === "running";
+}
