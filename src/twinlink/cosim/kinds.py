@@ -1,21 +1,60 @@
 """Which kind of instance runs an FMU: `open_slave` chooses.
 
-A co-simulation FMU runs in this process (slaves.Slave). Model exchange and process
-isolation come next (mexslave.py, isolated.py); until then every instance is a Slave.
+- a co-simulation FMU runs in this process (slaves.Slave), stepped by its own doStep;
+- a model exchange FMU (one without a co-simulation binary) runs in this process under
+  FMPy's solvers (mexslave.MeSlave);
+- a Python FMU (pythonfmu), or an instance the file asks to isolate, runs in a process of
+  its own (isolated.IsolatedSlave): two Python FMUs in one process share one interpreter
+  and break each other, and a crash of an isolated FMU fails the run, not the process.
 """
 
 from __future__ import annotations
 
+import zipfile
 from pathlib import Path
-from typing import cast
+from typing import Literal
 
+from twinlink.processors.fmuinfo import FmuError, FmuInfo, inspect_fmu
+
+from .mexslave import MeSlave
 from .model import Instance
 from .protocol import SlaveLike
-from .slaves import Slave
+from .slaves import CosimRunError, Slave
+
+Kind = Literal["co-simulation", "model-exchange", "python"]
+# pythonfmu writes the module of the model's class here; no other tool does.
+PYTHONFMU_MARKER = "resources/slavemodule.txt"
+
+
+def is_python_fmu(fmu_path: Path) -> bool:
+    """Whether the FMU was built by pythonfmu (its archive holds resources/slavemodule.txt)."""
+    try:
+        with zipfile.ZipFile(fmu_path) as archive:
+            names = archive.namelist()
+    except (OSError, zipfile.BadZipFile):
+        return False  # not an FMU at all: inspect_fmu says why
+    return PYTHONFMU_MARKER in names
+
+
+def kind_of(info: FmuInfo, fmu_path: Path) -> Kind:
+    """How an FMU runs in a co-simulation: "python" (pythonfmu: a process of its own),
+    "co-simulation" (its doStep) or "model-exchange" (FMPy's solvers)."""
+    if is_python_fmu(fmu_path):
+        return "python"
+    cs, me = info.interface("CoSimulation"), info.interface("ModelExchange")
+    if me is not None and me.has_binary and not (cs is not None and cs.has_binary):
+        return "model-exchange"
+    return "co-simulation"  # or none usable here: Slave says which binary is missing
 
 
 def open_slave(instance: Instance, fmu_path: Path, workdir: Path) -> SlaveLike:
     """Open `instance` of the FMU at `fmu_path`, extracting it into `workdir`; raises
     CosimRunError naming the instance when the FMU cannot be used."""
-    # cast until Slave has all of SlaveLike (step's time, FMU state: C1's slaves.py)
-    return cast(SlaveLike, Slave(instance.name, fmu_path, workdir))
+    try:
+        info = inspect_fmu(fmu_path)
+    except FmuError as err:
+        raise CosimRunError(f"instance {instance.name!r} ({fmu_path.name}): {err}") from err
+    kind = kind_of(info, fmu_path)
+    if kind == "model-exchange":
+        return MeSlave(instance.name, fmu_path, workdir)
+    return Slave(instance.name, fmu_path, workdir)

@@ -103,18 +103,29 @@ class ModelExchange(Engine):
             self._solver = CVodeSolver(
                 get_nominals=c.get_nominals,
                 set_time=c.set_time,
-                startTime=0.0,
+                startTime=self.time,
                 relativeTolerance=self._tolerance,
                 **args,
             )
         self._raise_kept()
 
     def set_inputs(self, values_at: int) -> None:
+        self.change_inputs(lambda: Engine.set_inputs(self, values_at))
+
+    def change_inputs(self, set_inputs: Callable[[], None]) -> None:
+        """Set inputs with `set_inputs`: in event mode if some are discrete, else the solver
+        restarts from the new inputs at the next advance. (The co-simulation's MeSlave sets
+        its inputs through here.)"""
         if self.discrete_inputs:
-            self._in_event_mode(lambda: Engine.set_inputs(self, values_at))
+            self._in_event_mode(set_inputs)
         else:
-            super().set_inputs(values_at)
+            set_inputs()
             self._dirty = True
+
+    def moved(self, time: float, next_event: float | None) -> None:
+        """The FMU's state was set back to one saved at `time` (a co-simulation's rollback):
+        the solver restarts there at the next advance."""
+        self.time, self.next_event, self._dirty = time, next_event, True
 
     def retune(self, values: list[tuple[FmuVariable, Scalar]]) -> None:
         self._in_event_mode(lambda: set_values(self.fmu, self.api.fmi3, values, self.log))
