@@ -188,6 +188,12 @@ def test_the_module_runs_as_a_program(tmp_path: Path) -> None:
     assert zipfile.is_zipfile(out)
 
 
-@pytest.mark.parametrize("name", ["crash", "leak", "status", "msd_mass", "msd_spring"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        *("crash", "leak", "status", "msd_mass", "msd_spring"),
+        *("incubator_plant", "incubator_controller", "incubator_kalman", "chain_mass"),
+    ],
+)
 def test_the_test_fmus_compile_without_warnings(name: str, tmp_path: Path) -> None:
     build_fmu(FMU_SOURCES[name], tmp_path / f"{name}.fmu", extra_cflags=["-Werror"])
