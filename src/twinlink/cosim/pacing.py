@@ -149,13 +149,14 @@ def run_paced(
         start = clock()
         while not stop.is_set():
             deadline = start + round((session.time - t0) * scale)
-            behind = clock() >= deadline
+            behind = clock() >= deadline and lateness.count > 0  # the first: at the start
             if not behind and not _wait_until(deadline, clock, sleep, spin_ns, stop):
                 break
-            lateness.add(clock() - deadline, behind)
+            started = clock()
             row = session.step()
-            if row is None:
+            if row is None:  # nothing was stepped
                 break
+            lateness.add(started - deadline, behind)
             on_row(row)
     return lateness.jitter()
 
