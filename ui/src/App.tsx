@@ -9,6 +9,8 @@ import { AdminPage } from "./routes/AdminPage";
 import { LibraryPage } from "./routes/LibraryPage";
 import { DeploymentsPage } from "./routes/DeploymentsPage";
 import { DeploymentPage } from "./routes/DeploymentPage";
+import { CosimsPage } from "./routes/CosimsPage";
+import { CosimPage } from "./routes/CosimPage";
 import { TwinPage } from "./routes/twin/TwinPage";
 import { OverviewTab } from "./routes/twin/OverviewTab";
 import { LiveTab } from "./routes/twin/LiveTab";
@@ -46,6 +48,8 @@ export function AppRoutes() {
         <Route path="library" element={<LibraryPage />} />
         <Route path="deployments" element={<DeploymentsPage />} />
         <Route path="deployments/:name" element={<DeploymentPage />} />
+        <Route path="cosims" element={<CosimsPage />} />
+        <Route path="cosims/:id" element={<CosimPage />} />
         <Route path="gateway" element={<GatewayPage />} />
         <Route path="admin" element={<AdminPage />} />
         <Route path="*" element={<main className="page"><Empty>There is no such page.</Empty></main>} />

@@ -13,6 +13,7 @@ export function Header() {
         </NavLink>
         <NavLink to="/library">Library</NavLink>
         <NavLink to="/deployments">Deployments</NavLink>
+        <NavLink to="/cosims">Co-simulations</NavLink>
         <NavLink to="/gateway">Gateway</NavLink>
         <NavLink to="/admin">{me?.is_admin ? "Admin" : "Account"}</NavLink>
         <WorkspaceLink />
