@@ -14,6 +14,7 @@ from twinlink.cli.cluster import cluster
 from twinlink.cli.commands import commands, properties, send
 from twinlink.cli.common import HelpGroup
 from twinlink.cli.connectors import connectors
+from twinlink.cli.cosim import cosim
 from twinlink.cli.deploy import deploy
 from twinlink.cli.gateway import audit, service_accounts, services
 from twinlink.cli.history import history
@@ -87,6 +88,7 @@ COMMANDS: tuple[click.Command, ...] = (
     service_accounts,
     lib,
     deploy,
+    cosim,
 )
 for _command in COMMANDS:
     main.add_command(_command)

@@ -1,0 +1,231 @@
+"""`twinlink cosim run` and `check` as a person runs them: the real command as a subprocess on
+the example (examples/cosim, its FMUs built by its build.sh), the CSV, progress, the mistakes
+said in one line with their exit status, a real-time run stopped by SIGTERM as a deployment
+stops its execute phase, and the rows sent as a device's samples to a real server."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.conftest import EXAMPLES, Server
+from tests.integration._device import make_twin
+from tests.integration._util import poll_until
+
+pytestmark = pytest.mark.integration
+
+EXAMPLE = EXAMPLES / "cosim"
+HEADER = ["time", "{msd1}.msd1i.x1", "{msd1}.msd1i.v1", "{msd2}.msd2i.x2", "{msd2}.msd2i.v2",
+          "{msd2}.msd2i.fk"]  # fmt: skip
+SIGNALS = ["msd1.msd1i.x1", "msd1.msd1i.v1", "msd2.msd2i.x2", "msd2.msd2i.v2", "msd2.msd2i.fk"]
+
+
+@dataclass
+class Done:
+    code: int
+    out: str
+    err: str
+
+    def ok(self) -> Done:
+        assert self.code == 0, self.err
+        assert "Traceback" not in self.err
+        return self
+
+
+def _env(**extra: str) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if not k.startswith("TWINLINK_")}
+    return {**env, "NO_COLOR": "1", **extra}
+
+
+def twinlink(*args: str, cwd: Path, **env: str) -> Done:
+    p = subprocess.run([sys.executable, "-m", "twinlink", *args], cwd=cwd, env=_env(**env),
+                       capture_output=True, text=True, timeout=120)  # fmt: skip
+    return Done(p.returncode, p.stdout, p.stderr)
+
+
+@pytest.fixture(scope="module")
+def example(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The example folder as its README makes it: the FMUs built by build.sh beside msd.json."""
+    folder = tmp_path_factory.mktemp("example")
+    shutil.copyfile(EXAMPLE / "msd.json", folder / "msd.json")
+    built = subprocess.run(["sh", str(EXAMPLE / "build.sh"), str(folder)], capture_output=True,
+                           text=True, timeout=300, env=_env(PYTHON=sys.executable))  # fmt: skip
+    assert built.returncode == 0, built.stderr
+    assert {p.name for p in folder.iterdir()} == {
+        "msd.json", "MassSpringDamper1.fmu", "MassSpringDamper2.fmu"
+    }  # fmt: skip
+    return folder
+
+
+def _rows(text: str) -> list[list[str]]:
+    return list(csv.reader(io.StringIO(text)))
+
+
+def test_run_writes_maestros_csv_and_says_its_progress(example: Path) -> None:
+    done = twinlink("cosim", "run", "msd.json", cwd=example).ok()
+    rows = _rows(done.out)
+    assert rows[0] == HEADER
+    assert len(rows) == 1 + 1001  # 0 to 10 s by 0.01 s
+    assert [float(r[0]) for r in rows[1:4]] == [0.0, 0.01, 0.02]
+    assert float(rows[-1][0]) == 10.0
+    assert rows[1][1:3] == ["1.0", "0.0"]  # x1 starts at its parameter, at rest
+    # the coupled pair moves the second mass, and the damping shrinks the first's swing
+    assert max(abs(float(r[3])) for r in rows[1:]) > 0.1
+    assert abs(float(rows[-1][1])) < 1.0
+    progress = [line for line in done.err.splitlines() if "%" in line]
+    assert len(progress) == 9 and progress[0] == "msd.json:  10%  t = 1 s"
+    assert done.err.splitlines()[-1].startswith("msd.json: finished: 1001 rows to t = 10 s in ")
+
+    again = twinlink("cosim", "run", "msd.json", "-o", "out.csv", "--end", "2", "--step", "0.1",
+                     cwd=example).ok()  # fmt: skip
+    assert again.out == ""
+    written = _rows((example / "out.csv").read_text())
+    assert [float(r[0]) for r in written[1:]] == pytest.approx([k / 10 for k in range(21)])
+
+
+def test_check_describes_the_system(example: Path) -> None:
+    out = twinlink("cosim", "check", "msd.json", cwd=example).ok().out.splitlines()
+    assert out[0] == "msd.json: a Maestro multi-model co-simulation"
+    assert "  msd1.msd1i  MassSpringDamper1.fmu  (co-simulation, FMI 2.0)" in out
+    assert "  msd2.msd2i.fk -> msd1.msd1i.fk" in out
+    assert "algorithm: fixed-step 0.01 s, jacobi, from 0 s to 10 s" in out
+    assert out[-1] == "algebraic loops: none"
+
+
+def test_check_names_an_algebraic_loop_and_exits_1(example: Path) -> None:
+    """The spring's force depends directly on its input x1 (its ModelStructure says so): fed
+    back into x1, it is a loop no master can step."""
+    (example / "loop.yaml").write_text(
+        "instances: {s: MassSpringDamper2.fmu}\n"
+        "connections: {s.fk: s.x1}\n"
+        "algorithm: {type: fixed-step, size: 0.1}\n"
+        "end_time: 1\n"
+    )
+    checked = twinlink("cosim", "check", "loop.yaml", cwd=example)
+    assert checked.code == 1 and "Traceback" not in checked.err
+    assert "algebraic loops (1):" in checked.out and "s.fk -> s.x1 -> s.fk" in checked.out
+    ran = twinlink("cosim", "run", "loop.yaml", cwd=example)
+    assert ran.code == 2 and "algebraic loop" in ran.err and "s.fk -> s.x1" in ran.err
+    assert ran.out == "" and "Traceback" not in ran.err
+
+
+def _mistake(example: Path, name: str, text: str) -> Done:
+    (example / name).write_text(text)
+    return twinlink("cosim", "run", name, cwd=example)
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "says"),
+    [
+        ("nofmu.json", '{"fmus": {"{a}": "a.fmu"}, "connections": {"{a}.i.y": ["{b}.j.u"]}}',
+         "nofmu.json: connections.{a}.i.y: the FMU {b} is not in fmus"),
+        ("typo.yaml", "instances: {m: MassSpringDamper1.fmu}\nalgoritm: {size: 1}\n",
+         "typo.yaml"),
+        ("missing.json", '{"fmus": {"{a}": "gone.fmu"}, "logVariables": {"{a}.i": ["y"]}, '
+         '"endTime": 1, "algorithm": {"type": "fixed-step", "size": 0.1}}',
+         "instance 'a.i': its FMU gone.fmu is not there"),
+        ("noend.json", '{"fmus": {"{m}": "MassSpringDamper1.fmu"}, '
+         '"logVariables": {"{m}.i": ["x1"]}, "algorithm": {"type": "fixed-step", "size": 0.1}}',
+         "has no end time: give one with --end"),
+        ("notes.txt", "hello", "not a co-simulation file twinlink reads"),
+    ],
+)  # fmt: skip
+def test_a_bad_file_is_one_line_and_exit_2(example: Path, name: str, text: str, says: str) -> None:
+    done = _mistake(example, name, text)
+    assert done.code == 2, done.err
+    lines = done.err.strip().splitlines()
+    assert len(lines) == 1 and says in lines[0] and name in lines[0], done.err
+    assert done.out == ""
+
+
+def test_a_failing_fmu_is_named_and_exit_1(example: Path) -> None:
+    model = json.loads((EXAMPLE / "msd.json").read_text())
+    model["parameters"]["{msd1}.msd1i.m1"] = 0.0  # the mass FMU refuses to step
+    (example / "massless.json").write_text(json.dumps(model))
+    done = twinlink("cosim", "run", "massless.json", cwd=example)
+    assert done.code == 1 and "Traceback" not in done.err
+    [line] = [x for x in done.err.splitlines() if x.startswith("Error:")]
+    assert "instance 'msd1.msd1i'" in line and "the mass m1 must be positive" in line
+
+
+def test_a_realtime_run_is_stopped_by_sigterm_with_its_rows(example: Path) -> None:
+    """As a deployment stops its execute phase: SIGTERM ends the run after its current step,
+    the CSV holds every row up to it, and the exit status is 0."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "twinlink", "cosim", "run", "msd.json", "--realtime", "1",
+         "--end", "600", "-o", "paced.csv"],
+        cwd=example, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        out = example / "paced.csv"
+        # the CSV is written in blocks: once there is one, rows have been computed
+        poll_until(lambda: out.exists() and out.stat().st_size > 0, "the first rows", 30)
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        proc.kill()
+    assert proc.returncode == 0, err
+    assert "ended early (stopped at t = " in err and "Traceback" not in err
+    rows = _rows((example / "paced.csv").read_text())
+    assert rows[0] == HEADER and len(rows) >= 2
+    last = float(rows[-1][0])
+    assert f"(stopped at t = {last:g} s): {len(rows) - 1} rows to t = {last:g} s" in err
+    assert last < 600
+
+
+def test_a_realtime_run_says_how_late_its_steps_were(example: Path) -> None:
+    done = twinlink("cosim", "run", "msd.json", "--realtime", "20", "--end", "1", cwd=example)
+    assert len(_rows(done.ok().out)) == 1 + 101
+    assert "finished: 101 rows to t = 1 s in " in done.err and "(lateness p50 " in done.err
+
+
+def _history(server: Server, slug: str, stream: str = "telemetry") -> list[dict[str, Any]]:
+    rows: list[dict[str, Any]] = []
+    params: dict[str, Any] = {"limit": 100_000}
+    with server.admin as admin:
+        while True:
+            r = admin.get(f"/api/v1/twins/{slug}/streams/{stream}/samples", params=params)
+            assert r.status_code == 200, r.text
+            page = r.json()
+            rows += page["rows"]
+            if not page.get("next_cursor"):
+                return rows
+            params["cursor"] = page["next_cursor"]
+
+
+def test_the_rows_go_to_a_twin_as_a_devices_samples(example: Path, server: Server) -> None:
+    slug, tokens = make_twin(server, devices=("sim",))
+    before = time.time_ns()
+    done = twinlink("cosim", "run", "msd.json", "-o", "sent.csv", "--prefix", "cs.", cwd=example,
+                    TWINLINK_URL=server.url, TWINLINK_DEVICE_TOKEN=tokens["sim"]).ok()  # fmt: skip
+    assert "sent 1001 samples in " in done.err
+    csv_rows = _rows((example / "sent.csv").read_text())
+    stored = _history(server, slug)
+    assert len(stored) == 1001
+    assert set(stored[0]["values"]) == {f"cs.{s}" for s in SIGNALS}
+    # wall clock at the start plus the simulated time: 10 ms apart, from when it ran
+    start = stored[0]["time"]
+    assert before <= start <= time.time_ns()
+    assert [r["time"] - start for r in stored[:3]] == [0, 10_000_000, 20_000_000]
+    assert stored[-1]["time"] - start == 10_000_000_000
+    for row, sample in zip(csv_rows[1:], stored, strict=True):
+        assert [sample["values"][f"cs.{s}"] for s in SIGNALS] == [float(v) for v in row[1:]]
+
+
+def test_a_wrong_device_token_fails_the_run_saying_so(example: Path, server: Server) -> None:
+    done = twinlink("cosim", "run", "msd.json", "--device-token", "tld_not_a_token",
+                    "--url", server.url, cwd=example)  # fmt: skip
+    assert done.code == 1 and "Traceback" not in done.err
+    assert "the samples were refused (HTTP 401)" in done.err and "--device-token" in done.err
