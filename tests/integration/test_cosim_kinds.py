@@ -1,19 +1,27 @@
 """Kinds of instance in a co-simulation, on real FMUs: a model exchange FMU under FMPy's
 solvers (msd_mass_me, FMI 2; the lag of _fmu_c.py, FMI 2 and 3, with a state event)
-coupled with co-simulation FMUs, against the monolithic ODE; FMU state for a rollback; and
-the YAML form's `isolated`."""
+coupled with co-simulation FMUs, against the monolithic ODE; FMU state for a rollback;
+isolated instances (a C FMU as in process, two Python FMUs each in a process of its own, a
+segfault and a kill failing the run by name); and the YAML form's `isolated`."""
 
 from __future__ import annotations
 
 import math
+import os
+import signal
+import subprocess
+import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import psutil
 import pytest
 from scipy.integrate import solve_ivp
 
 from tests.conftest import FmuFiles
 from tests.integration import _fmu_c
+from twinlink.cosim.isolated import IsolatedSlave
 from twinlink.cosim.kinds import kind_of, open_slave
 from twinlink.cosim.mexslave import MeSlave
 from twinlink.cosim.model import Algorithm, Connection, Instance, Port, System
@@ -180,6 +188,140 @@ def test_open_slave_names_an_fmu_it_cannot_read(tmp_path: Path) -> None:
     bad.write_bytes(b"not a zip")
     with pytest.raises(CosimRunError, match=r"instance 'b' \(bad.fmu\)"):
         open_slave(Instance("b", "bad.fmu"), bad, tmp_path / "b")
+
+
+# -- isolated instances ---------------------------------------------------------------------
+
+SCALE = """\
+import os
+
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
+
+
+class {name}(Fmi2Slave):
+    author = "twinlink tests"
+    description = "y = k u, and the pid of the process it runs in"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.u, self.y, self.k, self.pid = 0.0, 0.0, 1.0, float(os.getpid())
+        self.register_variable(Real("u", causality=Fmi2Causality.input))
+        self.register_variable(Real("y", causality=Fmi2Causality.output, initial=Fmi2Initial.exact))
+        self.register_variable(
+            Real("pid", causality=Fmi2Causality.output, initial=Fmi2Initial.exact)
+        )
+        self.register_variable(
+            Real("k", causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable)
+        )
+
+    def do_step(self, current_time, step_size):
+        self.y = self.k * self.u
+        return True
+"""
+
+
+@pytest.fixture(scope="module")
+def scales(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """ScaleA.fmu and ScaleB.fmu: two Python FMUs (pythonfmu), y = k u."""
+    folder = tmp_path_factory.mktemp("scales")
+    built = {}
+    for name in ("ScaleA", "ScaleB"):
+        source = folder / f"{name}.py"
+        source.write_text(SCALE.format(name=name))
+        subprocess.run(
+            [sys.executable, "-m", "pythonfmu", "build", "-f", str(source), "-d", str(folder)],
+            check=True, capture_output=True,
+        )  # fmt: skip
+        built[f"{name}.fmu"] = folder / f"{name}.fmu"
+    return built
+
+
+def scaled_system(mass: Instance = MASS) -> System:
+    """The mass's x1 scaled by a (k 2) then b (k 3), Gauss-Seidel: b.y = 6 x1 at each row."""
+    a, b = Instance("a", "ScaleA.fmu"), Instance("b", "ScaleB.fmu")
+    return System(
+        instances=(mass, a, b),
+        connections=(
+            Connection(Port(mass.name, "x1"), Port("a", "u")),
+            Connection(Port("a", "y"), Port("b", "u")),
+        ),
+        parameters={Port("a", "k"): 2.0, Port("b", "k"): 3.0},
+        log_variables={mass.name: ("x1",), "a": ("pid",), "b": ("y", "pid")},
+        algorithm=Algorithm("fixed-step", 0.01),
+        end_time=1.0,
+        source="yaml",
+    )
+
+
+def test_an_isolated_instance_gives_the_rows_it_gives_in_process(msd: dict[str, Path]) -> None:
+    mass, spring = Instance("m", "mass.fmu", isolated=True), Instance("s", "spring.fmu", True)
+    system = replace(msd_system(0.01), instances=(mass, spring))
+    with Session(system, msd) as session:
+        assert [type(s) for s in session._slaves] == [IsolatedSlave, IsolatedSlave]
+        pids = [s.pid for s in session._slaves]  # type: ignore[attr-defined]
+        isolated = rows_of(session)
+    assert not any(psutil.pid_exists(pid) for pid in pids)  # closed: their processes ended
+    with Session(msd_system(0.01), msd) as session:
+        in_process = rows_of(session)
+    np.testing.assert_array_equal(isolated, in_process)
+
+
+def test_two_python_fmus_run_each_in_its_own_process(
+    msd: dict[str, Path], scales: dict[str, Path]
+) -> None:
+    assert kind_of(inspect_fmu(scales["ScaleA.fmu"]), scales["ScaleA.fmu"]) == "python"
+    with Session(scaled_system(), msd | scales) as session:
+        kinds = {s.name: type(s) for s in session._slaves}
+        rows = rows_of(session)
+        columns = session.columns
+    assert kinds == {"m": Slave, "a": IsolatedSlave, "b": IsolatedSlave}
+    col = {name: k for k, name in enumerate(columns)}
+    np.testing.assert_allclose(rows[1:, col["b.y"]], 6 * rows[1:, col["m.x1"]], rtol=1e-12)
+    pid_a, pid_b = set(rows[:, col["a.pid"]]), set(rows[:, col["b.pid"]])
+    assert len(pid_a) == len(pid_b) == 1 and pid_a != pid_b  # one process each, all along
+    assert os.getpid() not in pid_a | pid_b
+
+
+def test_a_crashing_isolated_fmu_fails_the_run_naming_it(
+    msd: dict[str, Path], fmu_files: FmuFiles
+) -> None:
+    """crash.fmu segfaults once u > threshold; u is the lone mass's v1 = -sin t, above 0.5
+    from t = 7 pi / 6."""
+    crash = Instance("c", "crash.fmu", isolated=True)
+    system = System(
+        instances=(MASS, crash),
+        connections=(Connection(Port("m", "v1"), Port("c", "u")),),
+        parameters={Port("c", "threshold"): 0.5},
+        log_variables={"m": ("x1",)},
+        algorithm=Algorithm("fixed-step", 0.01),
+        end_time=10.0,
+        source="yaml",
+    )
+    session = Session(system, msd | {"crash.fmu": fmu_files("crash")})
+    with session:
+        rows = [session.initialize()]
+        with pytest.raises(CosimRunError) as caught:
+            while (row := session.step()) is not None:
+                rows.append(row)
+    assert "instance 'c' (crash.fmu)" in str(caught.value)
+    assert "killed by SIGSEGV" in str(caught.value)
+    assert rows[-1][0] == pytest.approx(7 * math.pi / 6, abs=0.02)  # the rows before it, kept
+
+
+def test_a_child_killed_mid_run_fails_the_run_and_leaves_no_process(
+    msd: dict[str, Path], scales: dict[str, Path]
+) -> None:
+    session = Session(scaled_system(), msd | scales)
+    with session:
+        session.initialize()
+        for _ in range(5):
+            assert session.step() is not None
+        victim = next(s for s in session._slaves if s.name == "b")
+        other = next(s for s in session._slaves if s.name == "a")
+        os.kill(victim.pid, signal.SIGKILL)  # type: ignore[attr-defined]
+        with pytest.raises(CosimRunError, match=r"instance 'b' \(ScaleB.fmu\).*SIGKILL"):
+            session.step()
+    assert not psutil.pid_exists(other.pid)  # type: ignore[attr-defined]
 
 
 # -- the YAML form --------------------------------------------------------------------------

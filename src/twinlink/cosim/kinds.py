@@ -16,6 +16,7 @@ from typing import Literal
 
 from twinlink.processors.fmuinfo import FmuError, FmuInfo, inspect_fmu
 
+from .isolated import IsolatedSlave
 from .mexslave import MeSlave
 from .model import Instance
 from .protocol import SlaveLike
@@ -50,11 +51,17 @@ def kind_of(info: FmuInfo, fmu_path: Path) -> Kind:
 def open_slave(instance: Instance, fmu_path: Path, workdir: Path) -> SlaveLike:
     """Open `instance` of the FMU at `fmu_path`, extracting it into `workdir`; raises
     CosimRunError naming the instance when the FMU cannot be used."""
+    if instance.isolated or is_python_fmu(fmu_path):
+        return IsolatedSlave(instance.name, fmu_path, workdir)
+    return open_in_process(instance.name, fmu_path, workdir)
+
+
+def open_in_process(name: str, fmu_path: Path, workdir: Path) -> Slave:
+    """A Slave or MeSlave in this process (an isolated instance's child opens its FMU so)."""
     try:
         info = inspect_fmu(fmu_path)
     except FmuError as err:
-        raise CosimRunError(f"instance {instance.name!r} ({fmu_path.name}): {err}") from err
-    kind = kind_of(info, fmu_path)
-    if kind == "model-exchange":
-        return MeSlave(instance.name, fmu_path, workdir)
-    return Slave(instance.name, fmu_path, workdir)
+        raise CosimRunError(f"instance {name!r} ({fmu_path.name}): {err}") from err
+    if kind_of(info, fmu_path) == "model-exchange":
+        return MeSlave(name, fmu_path, workdir)
+    return Slave(name, fmu_path, workdir)
