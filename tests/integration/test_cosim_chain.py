@@ -78,7 +78,7 @@ def monolithic(times: Array) -> Array:
 
     sol = solve_ivp(f, (0.0, END), X0 + [0.0] * N, t_eval=times, rtol=1e-11, atol=1e-12)
     assert sol.success
-    return sol.y[:N]
+    return np.asarray(sol.y[:N], dtype=np.float64)
 
 
 def positions(result: Result) -> Array:
