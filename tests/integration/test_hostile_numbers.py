@@ -107,12 +107,14 @@ SEEDS: dict[tuple[str, str], list[str]] = {
 
 # Valid parameters of each blueprint and config of each connector kind, for the numbers of
 # their schemas (from /api/v1/blueprints and /api/v1/connector-kinds) to be tried one by one.
+COSIM = {"type": "fixed-step", "size": 0.1}
 BLUEPRINT_BASES: dict[str, dict[str, Any]] = {
     "bandpass": {"signals": ["x"], "sample_rate_hz": 100, "low_hz": 1, "high_hz": 10},
     "bandstop": {"signals": ["x"], "sample_rate_hz": 100, "low_hz": 1, "high_hz": 10},
     "highpass": {"signals": ["x"], "sample_rate_hz": 100, "cutoff_hz": 10},
     "lowpass": {"signals": ["x"], "sample_rate_hz": 100, "cutoff_hz": 10},
     "complementary": {"rate": "r", "angle": "a"},
+    "cosim": {"system": {"instances": {"a": "A.fmu"}, "algorithm": COSIM}, "outputs": {"y": "a.x"}},
     "expression": {"outputs": {"y": "x"}},
     "fft": {"signals": ["x"], "sample_rate_hz": 100},
     "fmu": {"fmu": "none.fmu"},

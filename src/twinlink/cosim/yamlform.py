@@ -68,6 +68,12 @@ def read_yaml(source: Path | str, *, text: str | None = None) -> System:
     return _Reader(name, docs[0]).system()
 
 
+def from_mapping(data: Mapping[str, Any], name: str = "system") -> System:
+    """The System `data` describes: the YAML form already parsed (JSON sent to the API, a
+    processor's parameters). Errors name the key, as there are no lines; `name` starts them."""
+    return _Reader(name, SourceDocument(data)).system()
+
+
 def to_yaml(system: System) -> str:
     """`system` in the YAML form; read_yaml gives it back (its `source` then "yaml")."""
     connections: dict[str, list[str]] = {}
@@ -199,9 +205,13 @@ class _Reader:
     def _time(self, path: YamlPath, value: Any) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.fail(path, f"{value!r} is not a time in seconds")
-        if not math.isfinite(value):
+        try:
+            seconds = float(value)
+        except OverflowError:  # an integer too large for a float (JSON may hold one)
+            raise self.fail(path, "is too large a time") from None
+        if not math.isfinite(seconds):
             raise self.fail(path, f"{value} is not a finite time")
-        return float(value)
+        return seconds
 
     def _step(self, path: YamlPath, value: Any) -> float:
         step = self._time(path, value)

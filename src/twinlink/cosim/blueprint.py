@@ -1,0 +1,326 @@
+"""The `cosim` blueprint: a co-simulation run beside live data (mode 3), in a processor.
+
+Some FMU inputs come from the processor's input signals (a twin's measured streams), some
+FMU variables go out as its output signals: a plant model and an estimator beside the
+measurements. The system is twinlink's YAML form given as a mapping (docs/cosim.md), its FMUs
+named by the file names of FMUs uploaded to the twin.
+
+Time 0 of the co-simulation (its `start_time`) is the first sample's timestamp. Each batch
+steps the Session on the algorithm's grid up to the batch's last sample, holding the latest
+value of each input (as the FMU blueprint's fixed mode does: a sample's values are set for
+the step in which it falls), and gives one output sample per communication point, the first
+at time 0. An FMU that ends the simulation, or the system's `end_time` reached, finishes the
+processor (`finished`, not restarted).
+
+Runs in the processor's worker, a process of its own: a crashing FMU takes down the worker,
+which the supervisor restarts from a fresh Session (time 0 again at the next sample).
+"""
+
+from __future__ import annotations
+
+import bisect
+import dataclasses
+import math
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+from pydantic import Field, field_validator
+
+from twinlink.domain.errors import TwinlinkError
+from twinlink.domain.samples import SIGNAL_NAME
+from twinlink.processors.blueprint import Batch, Blueprint, BlueprintError, Context, Params
+
+from .model import Port, System
+from .results import column_name
+from .session import Session
+from .yamlform import from_mapping
+
+# As the twin's FMU store names its uploads (processors/fmus.py, not imported: server side).
+FMU_FILE = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}\.fmu$")
+LIBRARY = "lib:"
+
+
+class CosimParams(Params):
+    system: dict[str, Any] = Field(
+        description="The co-simulation in twinlink's YAML form (docs/cosim.md) as a mapping: "
+        "instances (name -> the file name of an FMU uploaded to the twin), connections, "
+        "parameters, log, algorithm, start_time, end_time."
+    )
+    inputs: dict[str, str] = Field(
+        default_factory=dict,
+        description="input signal -> the FMU input it feeds, instance.variable (an input no "
+        "connection feeds); it holds the signal's latest value.",
+    )
+    outputs: dict[str, str] = Field(
+        description="output signal -> the FMU variable it carries, instance.variable; one "
+        "sample per communication point."
+    )
+
+    @field_validator("inputs", "outputs")
+    @classmethod
+    def _signal_names(cls, value: dict[str, str]) -> dict[str, str]:
+        bad = [name for name in value if not SIGNAL_NAME.match(name)]
+        if bad:
+            raise ValueError(f"{', '.join(map(repr, bad))} is not a signal name")
+        return value
+
+    @field_validator("outputs")
+    @classmethod
+    def _some_output(cls, value: dict[str, str]) -> dict[str, str]:
+        if not value:
+            raise ValueError("name at least one output signal and the variable it carries")
+        return value
+
+
+def checked_system(params: CosimParams) -> tuple[System, dict[str, Port], dict[str, Port]]:
+    """The system the params describe, and the port of each input and output signal; a
+    BlueprintError names the key that is wrong. Reads no file: the FMUs are checked when
+    the worker opens them."""
+    try:
+        system = from_mapping(params.system, "system")
+    except TwinlinkError as err:
+        raise BlueprintError(str(err)) from err
+    for instance in system.instances:
+        if instance.fmu.startswith(LIBRARY):
+            raise BlueprintError(
+                f"system: instances.{instance.name}: library FMUs ({instance.fmu}) are not "
+                "supported in a processor yet; upload the FMU to the twin and name its file"
+            )
+        if not FMU_FILE.match(instance.fmu):
+            raise BlueprintError(
+                f"system: instances.{instance.name}: {instance.fmu!r} is not the file name of "
+                "an FMU uploaded to the twin (letters, digits, '_', '.', '-', ending .fmu)"
+            )
+    names = sorted((i.name for i in system.instances), key=len, reverse=True)
+    inputs = {s: _port(names, "inputs", s, text) for s, text in params.inputs.items()}
+    outputs = {s: _port(names, "outputs", s, text) for s, text in params.outputs.items()}
+    fed = {c.target for c in system.connections}
+    wired = [f"{signal} ({port})" for signal, port in inputs.items() if port in fed]
+    if wired:
+        raise BlueprintError(
+            f"inputs: {', '.join(wired)}: a connection of the system feeds it; map signals "
+            "only to inputs no connection feeds"
+        )
+    twice = sorted({str(p) for p in inputs.values() if list(inputs.values()).count(p) > 1})
+    if twice:
+        raise BlueprintError(f"inputs: {', '.join(twice)} is fed by two signals; keep one")
+    return system, inputs, outputs
+
+
+def _port(names: Sequence[str], key: str, signal: str, text: str) -> Port:
+    """`text` as instance.variable, the longest declared instance name it starts with being
+    the instance (as the YAML form splits its ports)."""
+    for name in names:
+        if text.startswith(name + ".") and len(text) > len(name) + 1:
+            return Port(name, text[len(name) + 1 :])
+    raise BlueprintError(
+        f"{key}.{signal}: {text!r} is not instance.variable of an instance of the system "
+        f"(the instances: {', '.join(sorted(names))})"
+    )
+
+
+def logged(system: System, ports: Sequence[Port]) -> System:
+    """`system` also recording `ports`, so each output is a column of the Session's rows."""
+    log = {name: list(variables) for name, variables in system.log_variables.items()}
+    for port in ports:
+        variables = log.setdefault(port.instance, [])
+        if port.variable not in variables:
+            variables.append(port.variable)
+    return dataclasses.replace(system, log_variables={k: tuple(v) for k, v in log.items()})
+
+
+class CosimBlueprint(Blueprint[CosimParams]):
+    """Runs a co-simulation of several FMUs beside live data: input signals feed FMU
+    inputs, FMU variables go out as output signals (docs/cosim.md)."""
+
+    name = "cosim"
+    title = "Co-simulation"
+    Params = CosimParams
+
+    def __init__(self, params: CosimParams, ctx: Context) -> None:
+        super().__init__(params, ctx)
+        self._system, self._in, self._out = checked_system(params)
+        self._session: Session | None = None
+        self._feed: _Feed | None = None
+
+    @classmethod
+    def check(cls, params: Any) -> None:
+        checked_system(params)
+
+    def inputs(self) -> list[str]:
+        return list(self.params.inputs)
+
+    def outputs(self) -> list[str]:
+        return list(self.params.outputs)
+
+    def describe(self) -> dict[str, Any]:
+        system = self._system
+        algorithm = system.algorithm
+        d: dict[str, Any] = {
+            "instances": {i.name: i.fmu for i in system.instances},
+            "connections": [[str(c.source), str(c.target)] for c in system.connections],
+            "algorithm": {
+                "type": algorithm.kind,
+                "size": algorithm.size,
+                "master": algorithm.master,
+            },
+            "start_time": system.start_time,
+            "end_time": system.end_time,
+            "inputs": {s: str(p) for s, p in self._in.items()},
+            "outputs": {s: str(p) for s, p in self._out.items()},
+        }
+        if self._session is not None and self._feed is not None:
+            d["state"] = {"time_s": self._session.time, "steps": self._session.steps}
+        return d
+
+    def start(self) -> None:
+        files = Path(self.ctx.files)
+        missing = [i for i in self._system.instances if not (files / i.fmu).is_file()]
+        if missing:
+            raise BlueprintError(
+                "the twin has no uploaded FMU "
+                + ", ".join(f"{i.fmu!r} (instance {i.name})" for i in missing)
+                + "; upload it first (PUT /api/v1/twins/{twin}/fmus/{name})"
+            )
+        system = logged(self._system, list(self._out.values()))
+        paths = {i.fmu: files / i.fmu for i in system.instances}
+        ports = list(dict.fromkeys(self._in.values()))
+        try:
+            session = Session(system, paths, external_inputs=ports)
+        except TwinlinkError as err:
+            raise BlueprintError(f"the co-simulation cannot start: {err}") from err
+        self._session = session
+        try:
+            columns = [session.columns.index(column_name(system, p)) for p in self._out.values()]
+        except ValueError as err:  # not reached: `logged` records every output
+            self.stop()
+            raise BlueprintError(f"an output is not recorded: {err}") from err
+        self._feed = _Feed(session, system, list(self._in.values()), columns)
+
+    def process(self, batch: Batch) -> Batch | None:
+        feed, session = self._feed, self._session
+        if feed is None or session is None:
+            raise BlueprintError("the co-simulation is not started")
+        if not len(batch):
+            return None
+        times = batch.times
+        if len(times) > 1 and bool(np.any(times[1:] < times[:-1])):
+            batch = batch.take(np.argsort(times, kind="stable"))
+        nan = np.full(len(batch), np.nan)
+        columns = [batch.columns.get(s, nan) for s in self._in]
+        u = np.column_stack(columns) if columns else np.empty((len(batch), 0))
+        try:
+            times, rows = feed.run(batch.times, u)
+        except TwinlinkError as err:  # a failed FMU: this worker cannot go on with it
+            raise BlueprintError(str(err)) from err
+        if feed.ended:
+            self.ctx.finish(feed.ended, sim_time_s=session.time)
+        if not len(times):
+            return None
+        return Batch(times, {s: rows[:, c] for s, c in zip(self._out, feed.columns, strict=True)})
+
+    def stop(self) -> None:
+        session, self._session, self._feed = self._session, None, None
+        if session is not None:
+            session.close()
+
+
+class _Feed:
+    """Steps a Session on live samples: the held inputs, the grid, time 0 at the first
+    sample. Python work is per step (as the Session's is), not per sample and signal."""
+
+    def __init__(
+        self, session: Session, system: System, ports: list[Port], columns: list[int]
+    ) -> None:
+        self.session = session
+        self.ports = ports
+        self.columns = columns
+        self.start = system.start_time
+        self.end = system.end_time
+        algorithm = system.algorithm
+        self.fixed = algorithm.kind == "fixed-step"
+        self.h = algorithm.size
+        self.tol = 1e-9 * (algorithm.min_size or algorithm.size)
+        self.t0_ns: int | None = None
+        self.held = np.full(len(ports), np.nan)  # each input's latest value (NaN: none yet)
+        self.sent: tuple[float, ...] | None = None  # the values last set
+        self.ended = ""  # why the co-simulation ended: the processor then finishes
+
+    def run(
+        self, times: npt.NDArray[np.int64], u: npt.NDArray[np.float64]
+    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+        """Step up to the last of `times` (sorted), `u` the inputs per sample (NaN: no value
+        in that sample); the times (ns) and rows of the communication points reached."""
+        filled = _held(u, self.held)
+        values = filled.tolist()
+        rows: list[npt.NDArray[np.float64]] = []
+        if self.t0_ns is None:
+            self.t0_ns = int(times[0])
+            r = ((times - self.t0_ns) * 1e-9).tolist()
+            self._set(values[bisect.bisect_right(r, self.tol) - 1])
+            rows.append(self.session.initialize())
+        else:
+            r = ((times - self.t0_ns) * 1e-9).tolist()
+        before = self.held.tolist()
+        while not self.ended and self._due(r[-1]):
+            s = self.session.time - self.start
+            if self.fixed:  # the samples up to this step's end, as the FMU blueprint's grid
+                k = bisect.bisect_left(r, s + self.h - self.tol) - 1
+            else:  # a step of unknown length: the samples up to its start
+                k = bisect.bisect_right(r, s + self.tol) - 1
+            self._set(values[k] if k >= 0 else before)
+            row = self.session.step()
+            if row is None:
+                self._end()
+                break
+            if not self.session.time > s + self.start:  # it would never catch up
+                raise BlueprintError(f"the co-simulation did not advance from t = {s:g} s")
+            rows.append(row)
+            self._end_if_done()
+        self.held = filled[-1].copy()
+        if not rows:
+            return np.empty(0, np.int64), np.empty((0, len(self.session.columns)))
+        table = np.vstack(rows)
+        out = self.t0_ns + np.rint((table[:, 0] - self.start) * 1e9).astype(np.int64)
+        return out, table
+
+    def _due(self, last: float) -> bool:
+        """Whether the next step ends no later than the last sample (var-step: starts
+        before it, its end unknown until taken)."""
+        s = self.session.time - self.start
+        return s + self.h <= last + self.tol if self.fixed else s < last - self.tol
+
+    def _set(self, values: Sequence[float]) -> None:
+        key = tuple(values)
+        if key == self.sent:
+            return
+        self.session.set_inputs(
+            {p: v for p, v in zip(self.ports, values, strict=True) if not math.isnan(v)}
+        )
+        self.sent = key
+
+    def _end_if_done(self) -> None:
+        if self.session.ended or (
+            self.end is not None and self.session.time >= self.end - self.tol
+        ):
+            self._end()
+
+    def _end(self) -> None:
+        if self.session.ended:
+            self.ended = f"the co-simulation ended: {self.session.ended}"
+        else:
+            self.ended = f"the co-simulation reached its end time t = {self.end:g} s"
+
+
+def _held(u: npt.NDArray[np.float64], held: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """`u` with each NaN replaced by the latest value before it in its column (`held` the
+    values before the first row; NaN where there is none yet)."""
+    ext = np.vstack([held[None, :], u])
+    n, m = ext.shape
+    index = np.where(np.isnan(ext), 0, np.arange(n)[:, None])
+    np.maximum.accumulate(index, axis=0, out=index)
+    return ext[index, np.arange(m)][1:]

@@ -1,0 +1,264 @@
+"""The `cosim` processor: a co-simulation of several FMUs beside live data (mode 3).
+
+The mass-spring-damper pair (tests/fmus/msd_mass, msd_spring) runs coupled as one batch
+co-simulation first (Jacobi, 10 ms steps); its mass's position and velocity are then streamed
+by a device, as if measured, into the spring instance of a processor running the pair with
+that connection cut (the spring's x1 and v1 fed by the signals, the force still feeding the
+mass). Jacobi steps the spring from the mass's values at the step's start, which are the
+samples, so the processor's outputs are the batch run's values, in the twin's history at the
+samples' times. Bad ports are a 422 at create; a stop or restart leaves no instance and no
+extracted FMU behind (the server's TMPDIR is the test's, so only its workers write there).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from tests.conftest import FmuFiles, Server, stop_server
+from tests.integration._live import TIMEOUT_S, device_twin
+from tests.integration._processors import (
+    T0,
+    events,
+    processor_server,
+    samples_until,
+    wait_for,
+    watching,
+)
+from tests.integration._util import assert_problem
+from tests.integration.test_fmu_processors import upload
+from twinlink.cosim.runner import run
+from twinlink.cosim.yamlform import from_mapping
+
+pytestmark = pytest.mark.integration
+
+STEP_S = 0.01
+STEP_NS = 10_000_000
+FMUS = {"Mass.fmu": "msd_mass", "Spring.fmu": "msd_spring"}
+COUPLED: dict[str, Any] = {
+    "instances": {"m1": "Mass.fmu", "s2": "Spring.fmu"},
+    "connections": {"m1.x1": "s2.x1", "m1.v1": "s2.v1", "s2.fk": "m1.fk"},
+    "parameters": {"s2.c2": 2.0, "s2.cc": 3.0},
+    "log": {"m1": ["x1", "v1"], "s2": ["x2", "fk"]},
+    "algorithm": {"type": "fixed-step", "size": STEP_S, "master": "jacobi"},
+    "end_time": 2.0,
+}
+# The same pair with the mass's position and velocity fed to the spring from live data.
+BESIDE = {**COUPLED, "connections": {"s2.fk": "m1.fk"}, "log": {}}
+BESIDE.pop("end_time")
+INPUTS = {"x1": "s2.x1", "v1": "s2.v1"}
+OUTPUTS = {"x2": "s2.x2", "force": "s2.fk", "x1_model": "m1.x1"}
+
+
+@pytest.fixture(scope="module")
+def tmpdir_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Server, Path]]:
+    """A server whose workers make their temporary folders in a folder of this module."""
+    scratch = tmp_path_factory.mktemp("scratch")
+    srv = processor_server(tmp_path_factory.mktemp("data"), TMPDIR=str(scratch))
+    try:
+        yield srv, scratch
+    finally:
+        stop_server(srv)
+
+
+@pytest.fixture(scope="module")
+def reference(fmu_files: FmuFiles) -> dict[str, np.ndarray]:
+    """The coupled pair run as one batch co-simulation: its columns by name."""
+    paths = {name: fmu_files(build) for name, build in FMUS.items()}
+    result = run(from_mapping(COUPLED), paths)
+    assert not result.ended
+    return {name: result.column(name) for name in result.columns}
+
+
+def twin_with_fmus(server: Server, fmu_files: FmuFiles) -> tuple[str, str]:
+    slug, [device] = device_twin(server)
+    for name, build in FMUS.items():
+        upload(server, slug, fmu_files(build), name)
+    return slug, device
+
+
+def create(server: Server, slug: str, body: dict[str, Any]) -> Any:
+    with server.admin as admin:
+        return admin.post(f"/api/v1/twins/{slug}/processors", json=body)
+
+
+def cosim(name: str, system: dict[str, Any], **params: Any) -> dict[str, Any]:
+    params = {"inputs": INPUTS, "outputs": OUTPUTS, **params}
+    return {"name": name, "blueprint": "cosim", "params": {"system": system, **params}}
+
+
+def post_measured(server: Server, device: str, ref: dict[str, np.ndarray], t0: int) -> None:
+    """The mass's position and velocity of the batch run, one sample per step, in a few
+    requests (so a batch ends between grid points as well as on one)."""
+    n = len(ref["time"])
+    for seq, start in enumerate(range(0, n, 57), start=1):
+        rows = [
+            {"time": t0 + k * STEP_NS, "values": {"x1": ref["m1.x1"][k], "v1": ref["m1.v1"][k]}}
+            for k in range(start, min(n, start + 57))
+        ]
+        with server.client(device) as c:
+            r = c.post("/api/v1/device/samples", json={"seq": t0 // STEP_NS + seq, "samples": rows})
+        assert r.status_code == 200 and r.json()["accepted"] == len(rows), r.text
+
+
+def history(server: Server, slug: str, stream: str) -> list[dict[str, Any]]:
+    with server.admin as admin:
+        r = admin.get(
+            f"/api/v1/twins/{slug}/streams/{stream}/samples",
+            params={"start": "1970-01-01T00:00:00Z", "limit": 100_000},
+        )
+    if r.status_code == 404:  # nothing stored yet
+        return []
+    assert r.status_code == 200, r.text
+    return r.json()["rows"]  # type: ignore[no-any-return]
+
+
+def poll(what: Callable[[], Any], done: Callable[[Any], bool]) -> Any:
+    """`what()` once `done` holds for it (fails after TIMEOUT_S)."""
+    deadline = time.monotonic() + TIMEOUT_S
+    while True:
+        value = what()
+        if done(value):
+            return value
+        assert time.monotonic() < deadline, f"never reached: {value!r}"[:2000]
+        time.sleep(0.05)
+
+
+def sessions(scratch: Path) -> list[Path]:
+    """The folders the workers' Sessions extracted their FMUs into."""
+    return sorted(scratch.glob("twinlink-cosim-*"))
+
+
+def check_outputs(got: list[dict[str, Any]], ref: dict[str, np.ndarray], t0: int) -> None:
+    """One output per communication point at the sample's time, the batch run's values."""
+    n = len(ref["time"])
+    assert [s["time"] for s in got] == [t0 + k * STEP_NS for k in range(n)]
+    for signal, column in (("x2", "s2.x2"), ("force", "s2.fk"), ("x1_model", "m1.x1")):
+        values = np.array([s["values"][signal] for s in got])
+        np.testing.assert_allclose(values, ref[column], rtol=0, atol=1e-12, err_msg=signal)
+    assert np.ptp(ref["s2.x2"]) > 0.1  # the spring's mass moves: the values say something
+
+
+def test_a_device_streams_into_the_co_simulation_and_its_outputs_go_to_history(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
+) -> None:
+    server, scratch = tmpdir_server
+    slug, device = twin_with_fmus(server, fmu_files)
+    r = create(server, slug, cosim("pair", BESIDE))
+    assert r.status_code == 201, r.text
+    view = wait_for(server, slug, "pair", lambda p: p["state"] == "running")
+    assert len(sessions(scratch)) == 1  # the worker opened the pair once
+    n = len(reference["time"])
+    with watching(server, slug, "pair") as ws:
+        post_measured(server, device, reference, T0)
+        got = samples_until(ws, lambda s: len(s) >= n)
+    check_outputs(got, reference, T0)
+    stored = poll(lambda: history(server, slug, "pair"), lambda rows: len(rows) >= n)
+    check_outputs(stored, reference, T0)
+    view = wait_for(server, slug, "pair", lambda p: p["stats"]["samples_out"] >= n)
+    assert view["stats"]["crashes"] == 0 and view["last_error"] is None
+    # Stopped: the worker ends, freeing the instances and removing what it extracted.
+    with server.admin as admin:
+        r = admin.post(f"/api/v1/twins/{slug}/processors/pair/stop")
+    assert r.status_code == 200, r.text
+    wait_for(server, slug, "pair", lambda p: p["state"] == "stopped" and p["pid"] is None)
+    assert sessions(scratch) == []
+
+
+def test_a_restart_starts_the_co_simulation_again_at_the_next_sample(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
+) -> None:
+    server, scratch = tmpdir_server
+    slug, device = twin_with_fmus(server, fmu_files)
+    assert create(server, slug, cosim("again", BESIDE)).status_code == 201
+    first = wait_for(server, slug, "again", lambda p: p["state"] == "running")
+    n = len(reference["time"])
+    with watching(server, slug, "again") as ws:
+        post_measured(server, device, reference, T0)
+        samples_until(ws, lambda s: len(s) >= n)
+    with server.admin as admin:
+        r = admin.post(f"/api/v1/twins/{slug}/processors/again/restart")
+    assert r.status_code == 200, r.text
+    wait_for(server, slug, "again", lambda p: p["state"] == "running" and p["pid"] != first["pid"])
+    assert len(sessions(scratch)) == 1  # the old worker's folder is gone, the new one's there
+    # Time 0 again at the first new sample: the same outputs, from there on.
+    t1 = T0 + 3600 * 10**9
+    with watching(server, slug, "again") as ws:
+        post_measured(server, device, reference, t1)
+        got = samples_until(ws, lambda s: len(s) >= n)
+    check_outputs(got, reference, t1)
+    with server.admin as admin:
+        assert admin.delete(f"/api/v1/twins/{slug}/processors/again").status_code == 204
+    poll(lambda: sessions(scratch), lambda found: found == [])
+
+
+def test_the_end_time_finishes_the_processor(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
+) -> None:
+    server, scratch = tmpdir_server
+    slug, device = twin_with_fmus(server, fmu_files)
+    assert create(server, slug, cosim("short", {**BESIDE, "end_time": 0.5})).status_code == 201
+    wait_for(server, slug, "short", lambda p: p["state"] == "running")
+    with watching(server, slug, "short") as ws:
+        post_measured(server, device, reference, T0)
+        got = samples_until(ws, lambda s: len(s) >= 51)
+    cut = {name: column[:51] for name, column in reference.items()}  # 0 to 0.5 s
+    check_outputs(got, cut, T0)
+    view = wait_for(server, slug, "short", lambda p: p["state"] == "finished")
+    assert view["pid"] is None and view["stats"]["restarts"] == 0
+    assert view["stats"]["samples_out"] == 51
+    [event] = events(server, slug, "short", "finished")
+    assert "reached its end time t = 0.5 s" in event["message"]
+    assert events(server, slug, "short", "failed") == []
+    poll(lambda: sessions(scratch), lambda found: found == [])
+
+
+@pytest.mark.parametrize(
+    ("change", "named"),
+    [
+        ({"inputs": {"x1": "s3.x1"}}, "inputs.x1: 's3.x1' is not instance.variable"),
+        ({"inputs": {"x1": "m1.fk"}}, "inputs: x1 (m1.fk): a connection of the system feeds"),
+        ({"inputs": {"x1": "s2.x1", "x": "s2.x1"}}, "s2.x1 is fed by two signals"),
+        ({"outputs": {"x2": "spring.x2"}}, "outputs.x2: 'spring.x2' is not instance.variable"),
+        ({"outputs": {}}, "outputs: Value error, name at least one output"),
+        ({"outputs": {"bad name": "s2.x2"}}, "'bad name' is not a signal name"),
+        ({"system": {**BESIDE, "algorithm": {"type": "fast", "size": 0.1}}}, "algorithm.type"),
+        ({"system": {**BESIDE, "colour": 1}}, "system: colour: unknown key"),
+        ({"system": {**BESIDE, "connections": {"s2.fk": "m9.fk"}}}, "'m9.fk' is not instance"),
+        ({"system": {**BESIDE, "instances": {"m1": "lib:msd/Mass", "s2": "Spring.fmu"}}},
+         "instances.m1: library FMUs (lib:msd/Mass) are not supported"),
+        ({"system": {**BESIDE, "instances": {"m1": "../Mass.fmu", "s2": "Spring.fmu"}}},
+         "instances.m1: '../Mass.fmu' is not the file name of an FMU"),
+    ],
+)  # fmt: skip
+def test_bad_ports_and_systems_are_refused_at_create_naming_the_key(
+    tmpdir_server: tuple[Server, Path], change: dict[str, Any], named: str
+) -> None:
+    server, _ = tmpdir_server
+    slug, _ = device_twin(server)
+    body = cosim("bad", BESIDE)
+    body["params"] |= change
+    problem = assert_problem(create(server, slug, body), 422)
+    assert named in problem["detail"], problem["detail"]
+    with server.admin as admin:
+        r = admin.get(f"/api/v1/twins/{slug}/processors")
+    assert r.json()["processors"] == [], r.text  # nothing was made
+
+
+def test_a_variable_the_fmu_lacks_fails_the_start_naming_it(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles
+) -> None:
+    server, scratch = tmpdir_server
+    slug, _ = twin_with_fmus(server, fmu_files)
+    body = cosim("typo", BESIDE, outputs={"x2": "s2.x9"})
+    assert create(server, slug, body).status_code == 201
+    view = wait_for(server, slug, "typo", lambda p: p["last_error"] is not None)
+    assert "x9" in view["last_error"], view["last_error"]
+    with server.admin as admin:
+        assert admin.delete(f"/api/v1/twins/{slug}/processors/typo").status_code == 204
+    poll(lambda: sessions(scratch), lambda found: found == [])
