@@ -27,7 +27,7 @@ from twinlink.processors.blueprints._fmu_fmi import Fmi2Api, Fmi3Api
 from twinlink.processors.fmuinfo import FmuError, FmuVariable, Scalar, inspect_fmu
 from twinlink.processors.workerenv import worker_environment
 
-from . import slaveproc as p
+from . import frames as p
 from .slaves import CosimRunError, FmuTerminated, Group
 
 _log = logging.getLogger("twinlink.cosim")

@@ -1,9 +1,8 @@
 """The child process of an isolated instance (isolated.py): `python -m twinlink.cosim.slaveproc`.
 
-It runs one Slave (or MeSlave) and answers the parent's requests, one frame each way, on
-its stdin and stdout: a request is `op` (1 byte) and the payload's length (4 bytes), then the
-payload; an answer is a status (1 byte), the length, and the payload. Values travel as the
-raw bytes of the numpy buffers, the rest as JSON (orjson) or struct-packed numbers.
+It runs one Slave (or MeSlave) and answers the parent's requests, one frame each way
+(frames.py), on its stdin and stdout. Values travel as the raw bytes of the numpy buffers,
+the rest as JSON (orjson) or struct-packed numbers.
 
 The FMU must not write into the frames: the process's own fd 1 is pointed at stderr (a
 printf in C code lands in the parent's log file) before any FMU is loaded, and the frames go
@@ -15,7 +14,6 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-import struct
 import sys
 import threading
 import time
@@ -25,26 +23,12 @@ from typing import IO, Any
 import numpy as np
 import orjson
 
+from . import frames as f
+from .kinds import open_in_process
 from .protocol import SlaveLike
 from .slaves import CosimRunError, FmuTerminated, Group
 
-HEADER = struct.Struct("<BI")  # op or status, payload length
-TIMES = struct.Struct("<dd")
-TIME = struct.Struct("<d")
-STATE = struct.Struct("<Q")
-# requests
-OPEN, PORTS, START, ENTER, EXIT, READ, WRITE, STEP, SAVE, RESTORE, FREE, CLOSE = range(12)
-# answers
-OK, RUN_ERROR, TERMINATED, FAILED = range(4)
 PARENT_POLL_S = 1.0
-
-
-def read_exactly(stream: IO[bytes], n: int) -> bytes:
-    """`n` bytes from `stream`; EOFError if it ends first."""
-    data = stream.read(n)
-    if len(data) != n:
-        raise EOFError
-    return data
 
 
 class _Child:
@@ -55,45 +39,43 @@ class _Child:
         self.states: dict[int, object] = {}
 
     def handle(self, op: int, payload: bytes) -> bytes:
-        if op == OPEN:
+        if op == f.OPEN:
             return self._open(orjson.loads(payload))
         slave = self.slave
         assert slave is not None, "OPEN comes first"
-        if op == PORTS:
+        if op == f.PORTS:
             self._ports(slave, orjson.loads(payload))
-        elif op == START:
+        elif op == f.START:
             slave.set_start_values([(name, value) for name, value in orjson.loads(payload)])
-        elif op == ENTER:
-            start, stop = TIMES.unpack(payload)
+        elif op == f.ENTER:
+            start, stop = f.TIMES.unpack(payload)
             slave.enter_initialization(start, None if np.isnan(stop) else stop)
-        elif op == EXIT:
+        elif op == f.EXIT:
             slave.exit_initialization()
-        elif op == READ:
+        elif op == f.READ:
             slave.read()
             return b"".join(g.buffer.tobytes() for g in self.outputs)
-        elif op == WRITE:
+        elif op == f.WRITE:
             offset = 0
             for g in self.inputs:
                 g.buffer[:] = np.frombuffer(payload, g.buffer.dtype, len(g.buffer), offset)
                 offset += g.buffer.nbytes
             slave.write()
-        elif op == STEP:
-            return TIME.pack(slave.step(*TIMES.unpack(payload)))
-        elif op == SAVE:
-            key = len(self.states) + 1 if not self.states else max(self.states) + 1
+        elif op == f.STEP:
+            return f.TIME.pack(slave.step(*f.TIMES.unpack(payload)))
+        elif op == f.SAVE:
+            key = max(self.states, default=0) + 1
             self.states[key] = slave.save_state()
-            return STATE.pack(key)
-        elif op == RESTORE:
-            slave.restore_state(self.states[STATE.unpack(payload)[0]])
-        elif op == FREE:
-            slave.free_state(self.states.pop(STATE.unpack(payload)[0]))
+            return f.STATE.pack(key)
+        elif op == f.RESTORE:
+            slave.restore_state(self.states[f.STATE.unpack(payload)[0]])
+        elif op == f.FREE:
+            slave.free_state(self.states.pop(f.STATE.unpack(payload)[0]))
         else:
             raise ValueError(f"unknown request {op}")
         return b""
 
     def _open(self, spec: dict[str, Any]) -> bytes:
-        from .kinds import open_in_process  # after fd 1 is redirected: it loads FMPy
-
         self.slave = open_in_process(spec["name"], Path(spec["fmu"]), Path(spec["workdir"]))
         return orjson.dumps({"can_rollback": self.slave.can_rollback})
 
@@ -108,7 +90,7 @@ class _Child:
 
 
 def _answer(out: IO[bytes], status: int, payload: bytes) -> None:
-    out.write(HEADER.pack(status, len(payload)) + payload)
+    out.write(f.HEADER.pack(status, len(payload)) + payload)
     out.flush()
 
 
@@ -118,25 +100,25 @@ def serve(requests: IO[bytes], answers: IO[bytes]) -> None:
     try:
         while True:
             try:
-                op, size = HEADER.unpack(read_exactly(requests, HEADER.size))
-                payload = read_exactly(requests, size)
+                op, size = f.HEADER.unpack(f.read_exactly(requests, f.HEADER.size))
+                payload = f.read_exactly(requests, size)
             except EOFError:
                 return  # the parent is gone
-            if op == CLOSE:
+            if op == f.CLOSE:
                 break
             try:
-                _answer(answers, OK, child.handle(op, payload))
+                _answer(answers, f.OK, child.handle(op, payload))
             except FmuTerminated as done:
-                _answer(answers, TERMINATED, orjson.dumps([str(done), done.time]))
+                _answer(answers, f.TERMINATED, orjson.dumps([str(done), done.time]))
             except CosimRunError as err:
-                _answer(answers, RUN_ERROR, str(err).encode())
+                _answer(answers, f.RUN_ERROR, str(err).encode())
             except Exception as err:  # a bug, not the FMU's: the parent names the instance
-                _answer(answers, FAILED, f"{type(err).__name__}: {err}".encode())
+                _answer(answers, f.FAILED, f"{type(err).__name__}: {err}".encode())
     finally:
         if child.slave is not None:
             child.slave.close()
     with contextlib.suppress(OSError):
-        _answer(answers, OK, b"")
+        _answer(answers, f.OK, b"")
 
 
 def _watch_parent(parent: int) -> None:
