@@ -191,7 +191,7 @@ def test_a_realtime_run_says_how_late_its_steps_were(example: Path) -> None:
     assert "finished: 101 rows to t = 1 s in " in done.err and "(lateness p50 " in done.err
 
 
-def _history(server: Server, slug: str, stream: str = "telemetry") -> list[dict[str, Any]]:
+def _history(server: Server, slug: str, stream: str = "cosim") -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     params: dict[str, Any] = {"limit": 100_000}
     with server.admin as admin:

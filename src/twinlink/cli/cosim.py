@@ -88,9 +88,7 @@ def _loaded(
     "--url", envvar="TWINLINK_URL", help="The server the samples go to. Env: TWINLINK_URL."
 )
 @click.option("--prefix", default="", help="Put this before each signal's name.")
-@click.option(
-    "--stream", default="telemetry", show_default=True, help="The stream the samples go to."
-)
+@click.option("--stream", default="cosim", show_default=True, help="The stream the samples go to.")
 @click.pass_context
 def cosim_run(
     ctx: click.Context, file: Path, output: Path | None, realtime: float | None,

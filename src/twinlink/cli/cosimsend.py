@@ -60,7 +60,7 @@ class DeviceSender:
         names: Sequence[str],
         *,
         t0: float,
-        stream: str = "telemetry",
+        stream: str = "cosim",
         start_ns: int | None = None,
         timeout: float = 30.0,
     ) -> None:
