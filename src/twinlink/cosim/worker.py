@@ -91,6 +91,7 @@ class Rows:
         self.file = csv_file
         self.csv = csv.writer(csv_file, lineterminator="\n")  # as results.Result writes it
         self.csv.writerow(session.columns)
+        self.file.flush()  # a run that dies at its first step still says what it recorded
         self.block = np.empty((MAX_BATCH_ROWS, len(session.columns)))
         self.count = 0
         self.first_ns = 0

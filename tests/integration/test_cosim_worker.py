@@ -1,0 +1,321 @@
+"""A co-simulation run in its own process (cosim/worker.py), driven from the server's side
+(cosim/jobs.py), on the mass-spring-damper FMUs: batch (columns, progress, rows, the CSV as
+runner.run writes it), paced to the wall clock, stopped, killed, cancelled, an FMU that
+fails and one that crashes its process. Nothing here asserts how long anything took."""
+
+from __future__ import annotations
+
+import asyncio
+import csv
+import io
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import orjson
+import pytest
+
+from tests.conftest import FmuFiles
+from twinlink.cosim.jobs import CosimJob, JobSpec, worker_environment
+from twinlink.cosim.runner import run
+from twinlink.cosim.yamlform import read_yaml
+
+pytestmark = pytest.mark.integration
+
+MSD = """\
+instances:
+  mass: mass.fmu
+  spring: spring.fmu
+  {extra}
+connections:
+  mass.x1: [spring.x1{x1_to}]
+  mass.v1: [spring.v1{v1_to}]
+  spring.fk: mass.fk
+parameters:
+  mass.x1: 1.0
+  {parameters}
+log:
+  mass: [x1, v1]
+  spring: [fk]
+algorithm:
+  type: fixed-step
+  size: {step}
+start_time: 0
+end_time: {end}
+"""
+COLUMNS = ["time", "mass.x1", "mass.v1", "spring.fk"]
+
+
+@pytest.fixture(scope="module")
+def fmus(fmu_files: FmuFiles) -> dict[str, Path]:
+    return {
+        "mass.fmu": fmu_files("msd_mass"),
+        "spring.fmu": fmu_files("msd_spring"),
+        "status.fmu": fmu_files("status"),
+        "crash.fmu": fmu_files("crash"),
+    }
+
+
+def document(
+    tmp_path: Path,
+    *,
+    step: float = 0.01,
+    end: float = 10.0,
+    extra: str = "",
+    x1_to: str = "",
+    v1_to: str = "",
+    parameters: str = "",
+) -> Path:
+    """The msd pair as a YAML document; `extra` an instance added to it (YAML), `x1_to` and
+    `v1_to` more inputs fed by the mass's position and speed, `parameters` one more."""
+    path = tmp_path / "system.yaml"
+    path.write_text(
+        MSD.format(
+            step=step,
+            end=end,
+            extra=extra,
+            x1_to=f", {x1_to}" if x1_to else "",
+            v1_to=f", {v1_to}" if v1_to else "",
+            parameters=parameters,
+        )
+    )
+    return path
+
+
+@dataclass
+class Seen:
+    """What a job's callbacks were given."""
+
+    columns: list[list[str]] = field(default_factory=list)
+    progress: list[tuple[float, float]] = field(default_factory=list)
+    batches: list[np.ndarray] = field(default_factory=list)
+    some_rows: asyncio.Event = field(default_factory=asyncio.Event)
+
+    @property
+    def rows(self) -> np.ndarray:
+        return np.vstack(self.batches) if self.batches else np.empty((0, 0))
+
+    def job(self, spec: JobSpec, **kwargs: Any) -> CosimJob:
+        async def on_rows(rows: np.ndarray) -> None:  # a coroutine, as the service's is
+            self.batches.append(rows)
+            self.some_rows.set()
+
+        return CosimJob(
+            spec,
+            on_columns=self.columns.append,
+            on_progress=lambda f, t: self.progress.append((f, t)),
+            on_rows=on_rows,
+            **kwargs,
+        )
+
+
+def spec_of(doc: Path, fmus: dict[str, Path], **kwargs: Any) -> JobSpec:
+    return JobSpec(
+        document=doc, format="yaml", fmu_paths=fmus, csv=doc.parent / "out.csv", **kwargs
+    )
+
+
+def read_csv(path: Path) -> tuple[list[str], np.ndarray]:
+    with path.open(newline="") as file:
+        header, *rows = list(csv.reader(file))
+    return header, np.array([[float(v) for v in row] for row in rows]).reshape(-1, len(header))
+
+
+async def run_job(spec: JobSpec, **kwargs: Any) -> tuple[str, str, Seen]:
+    seen = Seen()
+    job = seen.job(spec, **kwargs)
+    await job.start()
+    end, message = await job.wait()
+    return end, message, seen
+
+
+async def test_a_batch_run_reports_as_it_goes_and_writes_the_csv_runner_run_writes(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = document(tmp_path, step=0.001, end=10.0)  # 10 000 steps
+    spec = spec_of(doc, fmus)
+    end, message, seen = await run_job(spec)
+    assert (end, message.split(" in ")[0]) == ("finished", "10000 steps")
+    assert seen.columns == [COLUMNS]
+    # The CSV is the one runner.run writes for the same system, to the last digit...
+    expected = run(read_yaml(doc), fmus)
+    text = io.StringIO()
+    expected.write_csv(text)
+    assert spec.csv.read_text() == text.getvalue()
+    # ...and the streamed rows are its rows, in batches of at most 1000.
+    assert np.array_equal(seen.rows, expected.values)
+    assert len(seen.batches) >= 11 and max(len(b) for b in seen.batches) <= 1000
+    # Progress goes up, at most about 100 times, and ends at 1.0 at the end time.
+    fractions = [f for f, _ in seen.progress]
+    assert fractions == sorted(fractions) and len(fractions) <= 102
+    assert seen.progress[-1] == (1.0, 10.0)
+    assert all(f == pytest.approx(t / 10.0) for f, t in seen.progress)
+
+
+def test_the_worker_speaks_json_lines_columns_first_and_the_end_last(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    spec = spec_of(document(tmp_path, step=0.01, end=2.0), fmus, stream=False)
+    env = worker_environment(tmp_path)
+    done = subprocess.run(
+        [sys.executable, "-m", "twinlink.cosim.worker"], input=spec.to_json(),
+        capture_output=True, env=env, cwd=tmp_path, timeout=120, check=True,
+    )  # fmt: skip
+    lines = [orjson.loads(line) for line in done.stdout.splitlines()]
+    assert lines[0] == {"columns": COLUMNS}
+    assert lines[-1] == {"end": "finished", "message": lines[-1]["message"]}
+    assert lines[-2] == {"progress": 1.0, "time": 2.0}
+    assert all(set(line) == {"progress", "time"} for line in lines[1:-1])  # no rows asked for
+    _, rows = read_csv(spec.csv)
+    assert len(rows) == 201
+
+
+async def test_a_realtime_run_gives_the_batch_results_and_its_jitter(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = document(tmp_path, step=0.01, end=5.0)
+    end, message, seen = await run_job(spec_of(doc, fmus, mode="realtime", factor=50.0))
+    assert end == "finished"
+    assert message.startswith("real time x50: 500 steps, start jitter p50 ")
+    assert np.array_equal(seen.rows, run(read_yaml(doc), fmus).values)
+    assert seen.progress[-1] == (1.0, 5.0)
+
+
+async def test_a_stopped_run_ends_after_its_step_and_keeps_every_row(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = document(tmp_path, step=0.01, end=1000.0)  # 1000 s in real time: stopped long before
+    spec = spec_of(doc, fmus, mode="realtime", factor=1.0, batch_ms=20)
+    seen = Seen()
+    job = seen.job(spec)
+    await job.start()
+    waiting = asyncio.create_task(job.wait())
+    await asyncio.wait_for(seen.some_rows.wait(), 60)
+    await job.stop()
+    end, message = await waiting
+    stopped_at = float(seen.rows[-1, 0])
+    assert (end, message) == ("stopped", f"stopped at t = {stopped_at:g} s")
+    assert 0 < stopped_at < 1000
+    header, rows = read_csv(spec.csv)
+    assert header == COLUMNS
+    assert np.array_equal(rows, seen.rows)  # the CSV holds every row computed, no more
+    assert rows[:, 0] == pytest.approx(np.arange(len(rows)) * 0.01)
+    assert seen.progress[-1] == (pytest.approx(stopped_at / 1000), stopped_at)
+
+
+async def test_a_run_that_does_not_stop_in_time_is_killed_with_its_rows_so_far(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = document(tmp_path, step=0.01, end=1000.0)
+    spec = spec_of(doc, fmus, mode="realtime", factor=1.0, batch_ms=20)
+    seen = Seen()
+    job = seen.job(spec, grace_s=0.0)  # no time at all to end its step
+    await job.start()
+    waiting = asyncio.create_task(job.wait())
+    await asyncio.wait_for(seen.some_rows.wait(), 60)
+    await job.stop()
+    end, message = await waiting
+    assert end == "stopped"
+    assert message.startswith("killed after 0 s: it did not end its step at t = ")
+    _, rows = read_csv(spec.csv)
+    assert len(rows) >= len(seen.batches[0])  # what was flushed before the kill stays
+    assert job.pid is not None
+    with pytest.raises(ProcessLookupError):
+        os.kill(job.pid, 0)
+
+
+async def test_cancelling_the_wait_stops_the_process(tmp_path: Path, fmus: dict[str, Path]) -> None:
+    spec = spec_of(document(tmp_path, end=1000.0), fmus, mode="realtime")
+    seen = Seen()
+    job = seen.job(spec)
+    await job.start()
+    waiting = asyncio.create_task(job.wait())
+    await asyncio.wait_for(seen.some_rows.wait(), 60)
+    waiting.cancel()
+    with pytest.raises(asyncio.CancelledError):
+        await waiting
+    assert job.pid is not None
+    with pytest.raises(ProcessLookupError):
+        os.kill(job.pid, 0)
+
+
+def first_time(doc: Path, fmus: dict[str, Path], column: str, when: Callable[[Any], Any]) -> float:
+    """The first time `when(column)` holds in the msd pair run alone."""
+    clean = run(read_yaml(document(doc.parent / "clean")), fmus)
+    return float(clean.column("time")[np.argmax(when(clean.column(column)))])
+
+
+async def test_an_fmu_that_fails_ends_the_run_failed_naming_it_with_the_rows_before(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    # status.fmu refuses a negative input: it fails once mass.x1 goes below 0.
+    doc = document(tmp_path, extra="bad: status.fmu", x1_to="bad.u")
+    spec = spec_of(doc, fmus)
+    end, message, seen = await run_job(spec)
+    (tmp_path / "clean").mkdir()
+    # Gauss-Seidel: bad steps after the mass, from the mass's x1 at the step's end.
+    fails_at = round(first_time(doc, fmus, "mass.x1", lambda x: x < 0) - 0.01, 9)
+    assert end == "failed"
+    assert message.startswith(
+        f"instance 'bad' (status.fmu): fmi2DoStep returned error at t = {fails_at:g} s"
+    )
+    assert "negative input u=" in message
+    _, rows = read_csv(spec.csv)
+    assert rows[-1, 0] == pytest.approx(fails_at)  # every row before the failing step
+    assert np.array_equal(rows, seen.rows)
+
+
+async def test_a_crashing_fmu_fails_the_run_with_the_signal_and_its_stack(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    # crash.fmu writes through NULL once its input passes its threshold. Paced at x10, the
+    # run has rows flushed before it crashes (each 50 ms of wall time).
+    doc = document(
+        tmp_path, extra="boom: crash.fmu", v1_to="boom.u", parameters="boom.threshold: 0.2"
+    )
+    spec = spec_of(doc, fmus, mode="realtime", factor=10.0)
+    end, message, seen = await run_job(spec)
+    (tmp_path / "clean").mkdir()
+    crashes_at = first_time(doc, fmus, "mass.v1", lambda v: v > 0.2)
+    assert end == "failed"
+    assert message.startswith("the co-simulation process crashed at t = ")
+    assert "(killed by signal SIGSEGV (Segmentation fault))" in message
+    assert "Fatal Python error: Segmentation fault" in message  # faulthandler's stack
+    _, rows = read_csv(spec.csv)
+    assert len(rows) > 1 and rows[-1, 0] <= crashes_at
+    assert np.array_equal(rows, seen.rows[: len(rows)])
+
+
+async def test_a_document_that_cannot_be_read_fails_the_run_saying_where(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = tmp_path / "system.yaml"
+    doc.write_text("instances:\n  mass: mass.fmu\nconections: {}\n")
+    end, message, seen = await run_job(spec_of(doc, fmus))
+    assert end == "failed"
+    assert str(doc) in message and "conections" in message
+    assert seen.columns == [] and seen.batches == []
+
+
+async def test_a_worker_that_cannot_start_is_a_failed_run(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    spec = spec_of(document(tmp_path), fmus)
+    end, message, _ = await run_job(spec, python=str(tmp_path / "no-python"))
+    assert end == "failed" and message.startswith("could not start: ")
+
+
+def test_the_worker_gets_none_of_the_servers_settings(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("TWINLINK_SECRET_KEY", "s3cret")
+    monkeypatch.setenv("TWINLINK_DATABASE_URL", "postgresql://u:pw@db/twinlink")
+    env = worker_environment(tmp_path)
+    assert not [k for k in env if k.startswith("TWINLINK_")]
+    assert "s3cret" not in env.values()
+    assert env["HOME"] == str(tmp_path) and env["PATH"] == os.environ["PATH"]
