@@ -153,10 +153,12 @@ def test_the_lag_as_model_exchange_steps_its_ode_and_its_state_event(
     assert seen[-1][0] == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("kind", [MeSlave, IsolatedSlave])
 def test_a_model_exchange_instance_rolls_back_to_a_saved_state(
-    msd: dict[str, Path], tmp_path: Path
+    msd: dict[str, Path], tmp_path: Path, kind: type[MeSlave | IsolatedSlave]
 ) -> None:
-    slave = MeSlave("m", msd["mass_me.fmu"], tmp_path)
+    """In this process, and in a process of its own (whose child runs a MeSlave)."""
+    slave = kind("m", msd["mass_me.fmu"], tmp_path)
     x, xi = slave.port("x1", into=False)
 
     def step(t: float) -> tuple[float, float]:

@@ -64,12 +64,15 @@ class IsolatedSlave:
         self._ports: list[tuple[str, bool]] = []
         workdir.mkdir(parents=True, exist_ok=True)
         self._stderr_path = workdir / "stderr.txt"
-        with self._stderr_path.open("wb") as stderr:
-            self.proc = subprocess.Popen(
-                [python or sys.executable, "-m", "twinlink.cosim.slaveproc"],
-                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=stderr,
-                env=worker_environment(), cwd=workdir,
-            )  # fmt: skip
+        command = [python or sys.executable, "-m", "twinlink.cosim.slaveproc"]
+        try:
+            with self._stderr_path.open("wb") as stderr:
+                self.proc = subprocess.Popen(
+                    command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=stderr,
+                    env=worker_environment(), cwd=workdir,
+                )  # fmt: skip
+        except OSError as err:
+            raise CosimRunError(f"{self.label}: cannot start its process: {err}") from err
         assert self.proc.stdin is not None and self.proc.stdout is not None
         self._requests: IO[bytes] = self.proc.stdin
         self._answers: IO[bytes] = self.proc.stdout
