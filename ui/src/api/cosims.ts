@@ -48,6 +48,7 @@ export interface Cosim {
   owner: string;
   twin?: string | null;
   prefix?: string | null;
+  stream?: string | null;
   mode: CosimMode | string;
   factor: number;
   state: CosimState;
@@ -76,6 +77,8 @@ export interface CosimRequest {
   name: string;
   twin?: string;
   prefix?: string;
+  /** The twin's stream the signals go to (the server's default: cosim). */
+  stream?: string;
   mode: CosimMode;
   factor: number;
 }
@@ -118,6 +121,7 @@ export function createCosim(request: CosimRequest, signal?: AbortSignal): Promis
       name: request.name,
       twin: request.twin,
       prefix: request.twin ? request.prefix : undefined,
+      stream: request.twin ? request.stream : undefined,
       mode: request.mode,
       factor: request.mode === "realtime" ? request.factor : undefined,
     },

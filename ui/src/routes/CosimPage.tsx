@@ -135,7 +135,8 @@ function Facts({ cosim }: { cosim: Cosim }) {
       <dd>
         {cosim.twin ? (
           <>
-            <Link to={`/twins/${encodeURIComponent(cosim.twin)}/history`}>{cosim.twin}</Link>, signals <span className="mono">{cosim.prefix ?? ""}instance.variable</span>
+            <Link to={`/twins/${encodeURIComponent(cosim.twin)}/history`}>{cosim.twin}</Link>, stream <span className="mono">{cosim.stream || "cosim"}</span>, signals{" "}
+            <span className="mono">{cosim.prefix ?? ""}instance.variable</span>
           </>
         ) : (
           "none"

@@ -80,6 +80,7 @@ describe("CosimsPage", () => {
     await within(form).findByRole("option", { name: "rig" });
     await userEvent.selectOptions(within(form).getByLabelText("Twin"), "rig");
     await userEvent.type(within(form).getByLabelText("Signal prefix"), "sim.");
+    await userEvent.type(within(form).getByLabelText("Stream"), "model");
     await userEvent.selectOptions(within(form).getByLabelText("Mode"), "realtime");
     await userEvent.clear(within(form).getByLabelText("Speed factor"));
     await userEvent.type(within(form).getByLabelText("Speed factor"), "2");
@@ -87,7 +88,7 @@ describe("CosimsPage", () => {
     expect(await screen.findByText("page of 7")).toBeInTheDocument();
     const post = fetch.mock.calls.find(([url, init]) => String(url).startsWith("/api/v1/cosims?") && init?.method === "POST")!;
     const query = new URL(String(post[0]), "http://x").searchParams;
-    expect(Object.fromEntries(query)).toEqual({ name: "msd-mm", twin: "rig", prefix: "sim.", mode: "realtime", factor: "2" });
+    expect(Object.fromEntries(query)).toEqual({ name: "msd-mm", twin: "rig", prefix: "sim.", stream: "model", mode: "realtime", factor: "2" });
     expect(post[1]?.body).toBe(file);
     expect((post[1]?.headers as Record<string, string>)["Content-Type"]).toBe("application/json");
     expect(fetch.mock.calls.some(([url, init]) => url === "/api/v1/cosims/7/start" && init?.method === "POST")).toBe(true);

@@ -35,6 +35,7 @@ export function NewCosim({ onCreated, onCancel }: Props) {
   const [name, setName] = useState("");
   const [twin, setTwin] = useState("");
   const [prefix, setPrefix] = useState("");
+  const [stream, setStream] = useState("");
   const [mode, setMode] = useState<CosimMode>("batch");
   const [factor, setFactor] = useState("1");
   const [start, setStart] = useState(true);
@@ -55,7 +56,7 @@ export function NewCosim({ onCreated, onCancel }: Props) {
     setBusy(true);
     setError(null);
     try {
-      let cosim = await createCosim({ file, name: name.trim(), twin: twin || undefined, prefix: prefix || undefined, mode, factor: Number(factor) });
+      let cosim = await createCosim({ file, name: name.trim(), twin: twin || undefined, prefix: prefix || undefined, stream: stream.trim() || undefined, mode, factor: Number(factor) });
       if (start) cosim = await startCosim(String(cosim.id));
       onCreated(cosim);
     } catch (err) {
@@ -95,9 +96,14 @@ export function NewCosim({ onCreated, onCancel }: Props) {
             </select>
           </PlainField>
           {twin && (
-            <PlainField id={`${id}-prefix`} label="Signal prefix" path="prefix" hint="Put before each column's name: sim. makes sim.msd1.m1.x1.">
-              <input id={`${id}-prefix`} value={prefix} onChange={(e) => setPrefix(e.target.value)} />
-            </PlainField>
+            <>
+              <PlainField id={`${id}-stream`} label="Stream" path="stream" hint="The twin's stream the signals go to; cosim when empty.">
+                <input id={`${id}-stream`} value={stream} placeholder="cosim" onChange={(e) => setStream(e.target.value)} />
+              </PlainField>
+              <PlainField id={`${id}-prefix`} label="Signal prefix" path="prefix" hint="Put before each column's name: sim. makes sim.msd1.m1.x1.">
+                <input id={`${id}-prefix`} value={prefix} onChange={(e) => setPrefix(e.target.value)} />
+              </PlainField>
+            </>
           )}
           <PlainField id={`${id}-mode`} label="Mode" path="mode">
             <select id={`${id}-mode`} value={mode} onChange={(e) => setMode(e.target.value as CosimMode)}>
