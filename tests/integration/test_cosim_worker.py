@@ -291,6 +291,45 @@ async def test_a_crashing_fmu_fails_the_run_with_the_signal_and_its_stack(
     assert np.array_equal(rows, seen.rows[: len(rows)])
 
 
+async def test_a_crash_in_an_isolated_instance_fails_the_run_naming_it(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = document(
+        tmp_path,
+        extra="boom: {fmu: crash.fmu, isolated: true}",
+        v1_to="boom.u",
+        parameters="boom.threshold: 0.2",
+    )
+    spec = spec_of(doc, fmus)
+    end, message, seen = await run_job(spec)
+    assert end == "failed"
+    assert message.startswith("instance 'boom' (crash.fmu): its process (pid ")
+    assert "SIGSEGV" in message
+    _, rows = read_csv(spec.csv)
+    assert np.array_equal(rows, seen.rows) and len(rows) > 1  # the worker itself lived on
+
+
+async def test_a_stopped_run_with_an_isolated_instance_stops_and_leaves_no_process(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    # The stop is the worker's alone (its isolated instance's process is its to close): the
+    # run stops, not fails; the test's hygiene checks no process is left.
+    doc = document(
+        tmp_path, end=1000.0, extra="boom: {fmu: crash.fmu, isolated: true}", v1_to="boom.u"
+    )
+    spec = spec_of(doc, fmus, mode="realtime", factor=1.0, batch_ms=20)
+    seen = Seen()
+    job = seen.job(spec)
+    await job.start()
+    waiting = asyncio.create_task(job.wait())
+    await asyncio.wait_for(seen.some_rows.wait(), 60)
+    await job.stop()
+    end, message = await waiting
+    assert end == "stopped" and message.startswith("stopped at t = ")
+    _, rows = read_csv(spec.csv)
+    assert np.array_equal(rows, seen.rows)
+
+
 async def test_a_document_that_cannot_be_read_fails_the_run_saying_where(
     tmp_path: Path, fmus: dict[str, Path]
 ) -> None:
