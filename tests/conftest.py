@@ -151,6 +151,7 @@ FMU_SOURCES = {
     "stair3": ROOT / "tests" / "fmus" / "stair" / "fmi3",
     "msd_mass": ROOT / "tests" / "fmus" / "msd_mass",
     "msd_spring": ROOT / "tests" / "fmus" / "msd_spring",
+    "ticks": ROOT / "tests" / "fmus" / "ticks",
     "msd_mass_me": ROOT / "tests" / "fmus" / "msd_mass_me",
     "incubator_plant": ROOT / "tests" / "fmus" / "incubator_plant",
     "incubator_controller": ROOT / "tests" / "fmus" / "incubator_controller",
@@ -183,5 +184,5 @@ def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
     and "stair3" (FMI 3.0) (tests/fmus), the co-simulated mass-spring-damper pair
     "msd_mass" and "msd_spring", the Incubator's "incubator_plant", "incubator_controller" and
     "incubator_kalman", and "chain_mass", one mass of a chain (FMI 2.0); "msd_mass_me" is
-    msd_mass as model exchange only (FMI 2.0)."""
+    msd_mass as model exchange only (FMI 2.0); "ticks" discards every step passing a tick."""
     return FmuFiles(tmp_path_factory.mktemp("fmus"))

@@ -214,8 +214,8 @@ def test_an_fmu_error_in_a_step_is_named_with_its_message(
     [
         ({"end_time": None}, "needs an end time"),
         (
-            {"algorithm": Algorithm("var-step", 0.1, 0.01, 1.0)},
-            "var-step algorithm is not supported",
+            {"algorithm": Algorithm("var-step", 0.1, 0.5, 1.0)},
+            r"a var-step algorithm needs 0 < min_size \(0.5\) <= size \(0.1\)",
         ),
         ({"algorithm": Algorithm("fixed-step", 0.0)}, "step size must be positive"),
         ({"log_variables": {"msd3.m3": ("x",)}}, "names no instance"),

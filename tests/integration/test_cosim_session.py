@@ -13,7 +13,7 @@ import pytest
 
 from tests.conftest import FmuFiles
 from tests.integration.test_cosim_master import MASS, msd_system
-from twinlink.cosim.model import Algorithm, Instance, Port, System
+from twinlink.cosim.model import Algorithm, Connection, Instance, Port, System
 from twinlink.cosim.runner import run
 from twinlink.cosim.session import Session
 from twinlink.domain.errors import InvalidInputError
@@ -126,3 +126,41 @@ def test_close_frees_everything_and_may_be_called_twice(
     session.close()
     assert list(tmp_path.iterdir()) == []
     assert str(tmp_path) not in Path("/proc/self/maps").read_text()
+
+
+def test_an_algebraic_loop_is_refused_naming_it_and_nothing_is_left(
+    msd: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Two springs' forces fed to each other's position inputs: msd_spring's fk depends
+    directly on x1 (its ModelStructure says so), so the values form a loop no step breaks."""
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    a, b = Instance("a", "msd2.fmu"), Instance("b", "msd2.fmu")
+    system = System(
+        instances=(a, b),
+        connections=(
+            Connection(Port("a", "fk"), Port("b", "x1")),
+            Connection(Port("b", "fk"), Port("a", "x1")),
+            Connection(Port("a", "x2"), Port("b", "v1")),  # through a state: no loop
+        ),
+        parameters={},
+        log_variables={},
+        algorithm=Algorithm("fixed-step", 0.1),
+        end_time=1.0,
+    )
+    with pytest.raises(InvalidInputError) as err:
+        Session(system, msd)
+    message = str(err.value)
+    assert "an algebraic loop" in message and "a.fk -> b.x1 -> b.fk -> a.x1 -> a.fk" in message
+    assert "b.v1" not in message
+    with pytest.raises(InvalidInputError, match="algebraic loop"):
+        run(system, msd)
+    assert (
+        list(tmp_path.iterdir()) == [] and str(tmp_path) not in Path("/proc/self/maps").read_text()
+    )
+
+
+def test_the_msd_pair_has_no_loop_though_fk_has_feedthrough(msd: dict[str, Path]) -> None:
+    """fk depends directly on x1 and v1, but they are the mass's states: the cycle of
+    connections is broken there, and the pair runs."""
+    result = run(replace(msd_system("jacobi", 0.1), end_time=1.0), msd)
+    assert result.column("time")[-1] == 1.0 and result.ended == ""

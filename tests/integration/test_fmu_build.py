@@ -191,7 +191,7 @@ def test_the_module_runs_as_a_program(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     "name",
     [
-        *("crash", "leak", "status", "msd_mass", "msd_spring"),
+        *("crash", "leak", "status", "msd_mass", "msd_spring", "ticks"),
         *("incubator_plant", "incubator_controller", "incubator_kalman", "chain_mass"),
     ],
 )

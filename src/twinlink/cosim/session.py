@@ -38,6 +38,7 @@ from .model import Port, System
 from .protocol import SlaveLike
 from .results import column_name
 from .slaves import Buffer, CosimRunError, Group
+from .varstep import TOLERANCE, VarStep
 
 __all__ = ["CosimRunError", "Session", "check"]
 
@@ -55,15 +56,18 @@ class Session:
         fmu_paths: Mapping[str, Path],
         *,
         external_inputs: Sequence[Port] = (),
+        tolerance: float = TOLERANCE,
     ) -> None:
-        """Raises InvalidInputError for a system that cannot run (before any FMU is loaded,
+        """`tolerance`: the var-step master's relative tolerance (varstep.py).
+
+        Raises InvalidInputError for a system that cannot run (before any FMU is loaded,
         except an algebraic loop: found from the FMUs' own feedthrough once they are open),
         CosimRunError naming the instance whose FMU cannot be used."""
         check(system, fmu_paths, external_inputs)
         self.system = system
         self.time = system.start_time
         self.ended = ""
-        self.steps = 0  # macro steps taken (var-step: accepted ones)
+        self.steps = 0  # macro steps taken (var-step: accepted ones; varstep has the rest)
         self.warnings: list[str] = []  # what the run does not do as the file asks
         self._slaves: list[SlaveLike] = []
         self._workdir = Path(tempfile.mkdtemp(prefix="twinlink-cosim-"))
@@ -75,7 +79,8 @@ class Session:
                 instance = by_name[name]
                 path = Path(fmu_paths[instance.fmu])
                 self._slaves.append(open_slave(instance, path, self._workdir / str(k)))
-            _refuse_loops(system, fmu_paths)
+            feedthrough = _Feedthrough(system, fmu_paths)
+            _refuse_loops(system, feedthrough)
             self._master, self.columns, self._external = _wire(
                 system, self._slaves, external_inputs
             )
@@ -88,9 +93,14 @@ class Session:
             self.close()
             raise
         self._ncols = len(self.columns)
-        algorithm = system.algorithm
-        self._h = algorithm.size
+        self._h = system.algorithm.size
         self._last = _last_step(system)  # the index of the last fixed step, None: open end
+        self.varstep: VarStep | None = None
+        if system.algorithm.kind == "var-step":
+            watch = _watched(system, feedthrough, self._slaves)
+            self.varstep = VarStep(self._master, system.algorithm, watch, tolerance)
+            if not self.varstep.rollback:
+                self._warn(_no_rollback(self._slaves))
 
     def __enter__(self) -> Session:
         return self
@@ -114,6 +124,8 @@ class Session:
             slave.exit_initialization()
         self._initialized = True
         self._master.read()
+        if self.varstep is not None:
+            self.varstep.start()
         row = np.empty(self._ncols)
         self._master.fill(row, self.time)
         return row
@@ -139,26 +151,33 @@ class Session:
             return None
         if not self._initialized:
             raise RuntimeError("Session.initialize() must be called before step()")
-        t, k = self.time, self.steps + 1
-        t_next = self.system.start_time + k * self._h
-        end = self.system.end_time
-        if end is not None and t_next > end:
-            t_next = end
-        master = self._master
-        reached = master.step(t, t_next - t)
-        if reached < t_next - 4 * math.ulp(t_next):
-            if master.terminated is None:
-                raise _cut_short(master, t)
-            t_next = reached
+        t, k, end, master = self.time, self.steps + 1, self.system.end_time, self._master
+        if self.varstep is not None:
+            t_next = self.varstep.step(t, end)
+            last = end is not None and t_next >= end
+        else:
+            t_next = self.system.start_time + k * self._h
+            if end is not None and t_next > end:
+                t_next = end
+            reached = master.step(t, t_next - t)
+            if reached < t_next - 4 * math.ulp(t_next):
+                if master.terminated is None:
+                    raise _cut_short(master, t)
+                t_next = reached
+            last = self._last is not None and k >= self._last
         row = np.empty(self._ncols)
         master.fill(row, t_next)
         self.time, self.steps = t_next, k
         if master.terminated is not None:
             self.ended = str(master.terminated)
             self._done = True
-        elif self._last is not None and k >= self._last:
+        elif last:
             self._done = True
         return row
+
+    def _warn(self, message: str) -> None:
+        self.warnings.append(message)
+        _log.warning("%s", message)
 
     def close(self) -> None:
         """Terminate and free every instance and remove the extracted files; never raises,
@@ -177,12 +196,16 @@ def check(
 ) -> None:
     """What can be checked of a system without its FMUs; InvalidInputError saying what."""
     algorithm = system.algorithm
-    if algorithm.kind != "fixed-step":
-        raise InvalidInputError(
-            f"the {algorithm.kind} algorithm is not supported yet; use fixed-step"
-        )
     if not algorithm.size > 0:
         raise InvalidInputError(f"the step size must be positive, not {algorithm.size}")
+    if algorithm.kind == "var-step":
+        low = algorithm.min_size or algorithm.size
+        high = algorithm.max_size or algorithm.size
+        if not 0 < low <= algorithm.size <= high:
+            raise InvalidInputError(
+                f"a var-step algorithm needs 0 < min_size ({low:g}) <= size "
+                f"({algorithm.size:g}) <= max_size ({high:g})"
+            )
     if system.end_time is not None and not system.end_time > system.start_time:
         raise InvalidInputError(
             f"the end time ({system.end_time:g}) must be after the start time "
@@ -217,22 +240,28 @@ def _last_step(system: System) -> int | None:
     return max(1, math.ceil(span - 1e-9))
 
 
-def _refuse_loops(system: System, fmu_paths: Mapping[str, Path]) -> None:
+class _Feedthrough:
+    """Per instance, what each output depends on directly (graph.Feedthrough), from its FMU's
+    ModelStructure, each FMU read once."""
+
+    def __init__(self, system: System, fmu_paths: Mapping[str, Path]) -> None:
+        self._paths = {i.name: Path(fmu_paths[i.fmu]) for i in system.instances}
+        self._cache: dict[Path, dict[str, set[str]] | None] = {}
+
+    def __call__(self, instance: str) -> Mapping[str, set[str]] | None:
+        path = self._paths[instance]
+        if path not in self._cache:
+            try:
+                md = fmpy.read_model_description(str(path), validate=False)
+                self._cache[path] = feedthrough_of(md)
+            except Exception:  # opened once already; unknown counts as direct
+                self._cache[path] = None
+        return self._cache[path]
+
+
+def _refuse_loops(system: System, feedthrough: _Feedthrough) -> None:
     """InvalidInputError naming the algebraic loops, from each FMU's declared feedthrough:
     a master stepping FMUs one value per step cannot solve them."""
-    fmus = {i.name: i.fmu for i in system.instances}
-    cache: dict[str, dict[str, set[str]] | None] = {}
-
-    def feedthrough(instance: str) -> Mapping[str, set[str]] | None:
-        fmu = fmus[instance]
-        if fmu not in cache:
-            try:
-                md = fmpy.read_model_description(str(fmu_paths[fmu]), validate=False)
-                cache[fmu] = feedthrough_of(md)
-            except Exception:  # already opened once; unknown counts as direct
-                cache[fmu] = None
-        return cache[fmu]
-
     loops = algebraic_loops(system, feedthrough)
     if loops:
         named = "; ".join(describe_loop(loop) for loop in loops)
@@ -241,6 +270,36 @@ def _refuse_loops(system: System, fmu_paths: Mapping[str, Path]) -> None:
             f" (outputs depending directly on inputs they feed): {named}. The masters cannot "
             "solve them; cut each loop, e.g. with an FMU whose output depends on a state"
         )
+
+
+def _watched(
+    system: System, feedthrough: _Feedthrough, slaves: Sequence[SlaveLike]
+) -> list[tuple[Buffer, int]]:
+    """The connected outputs the var-step master's error estimate follows: those that depend
+    on no input directly (an output with feedthrough read after a step still reflects the
+    inputs held from its start, a lag that changes with the step size, not an error a
+    smaller step removes); all connected outputs when every one has feedthrough."""
+    sources = list(dict.fromkeys(c.source for c in system.connections))
+    stateful = []
+    for port in sources:
+        deps = feedthrough(port.instance)
+        if deps is not None and port.variable in deps and not deps[port.variable]:
+            stateful.append(port)
+    by_name = {s.name: s for s in slaves}
+    out = []
+    for port in stateful or sources:
+        group, index = by_name[port.instance].port(port.variable, into=False)
+        out.append((group.buffer, index))
+    return out
+
+
+def _no_rollback(slaves: Sequence[SlaveLike]) -> str:
+    names = ", ".join(s.label for s in slaves if not s.can_rollback)
+    return (
+        f"not every instance can save and restore its state ({names}: no "
+        "canGetAndSetFMUstate): the var-step master adapts its step but cannot reject one, "
+        "so a step over tolerance is kept and only the next one is smaller"
+    )
 
 
 def _cut_short(master: Master, t: float) -> CosimRunError:

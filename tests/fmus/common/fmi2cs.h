@@ -3,7 +3,9 @@
  *
  * Each test FMU folder holds a symbolic link to this file, so the FMU's sources/ folder is
  * self-contained. It implements every fmi2 function (FMPy loads them all); Model Exchange,
- * FMU state and derivatives are refused with fmi2Error and a logged message.
+ * FMU state and derivatives are refused with fmi2Error and a logged message, except FMU state
+ * (get, set, free; not serialization) in a model that defines MODEL_FMU_STATE (and declares
+ * canGetAndSetFMUstate="true"), for the var-step master's rollback.
  *
  * The model file defines, before including this header:
  *     MODEL_GUID     the guid of its modelDescription.xml
@@ -291,6 +293,50 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
     return no_variables(c, "fmi2SetString", nvr);
 }
 
+#ifdef MODEL_FMU_STATE
+/* The whole state but the name and callbacks: what a rollback restores. */
+typedef struct {
+    Mode mode;
+    fmi2Real time;
+    fmi2Boolean terminated;
+    fmi2Real r[N_REALS];
+} SavedState;
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) {
+    Instance *inst = (Instance *)c;
+    SavedState *saved;
+    if (inst == NULL || s == NULL) return fmi2Error;
+    saved = *s != NULL ? (SavedState *)*s : (SavedState *)malloc(sizeof(SavedState));
+    if (saved == NULL) {
+        LOG_ERROR(inst, "fmi2GetFMUstate: out of memory.");
+        return fmi2Error;
+    }
+    saved->mode = inst->mode;
+    saved->time = inst->time;
+    saved->terminated = inst->terminated;
+    memcpy(saved->r, inst->r, sizeof saved->r);
+    *s = saved;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) {
+    Instance *inst = (Instance *)c;
+    const SavedState *saved = (const SavedState *)s;
+    if (inst == NULL || saved == NULL) return fmi2Error;
+    inst->mode = saved->mode;
+    inst->time = saved->time;
+    inst->terminated = saved->terminated;
+    memcpy(inst->r, saved->r, sizeof inst->r);
+    return fmi2OK;
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) {
+    if (c == NULL || s == NULL) return fmi2Error;
+    free(*s);
+    *s = NULL;
+    return fmi2OK;
+}
+#else
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) {
     (void)s;
     return unsupported(c, "fmi2GetFMUstate");
@@ -305,6 +351,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) {
     (void)s;
     return unsupported(c, "fmi2FreeFMUstate");
 }
+#endif
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *size) {
     (void)s;

@@ -12,6 +12,7 @@
 #define MODEL_GUID "{5d0c2a51-7f3e-4b8a-9e21-3c4d5e6f7a01}"
 #define N_REALS 6
 
+#define MODEL_FMU_STATE /* canGetAndSetFMUstate: the var-step master rolls back */
 #include "fmi2cs.h"
 
 enum { VR_X = 0, VR_V = 1, VR_FK = 2, VR_M = 3, VR_SPRING = 4, VR_DAMP = 5 };

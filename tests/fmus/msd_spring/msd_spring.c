@@ -13,6 +13,7 @@
 #define MODEL_GUID "{5d0c2a51-7f3e-4b8a-9e21-3c4d5e6f7a02}"
 #define N_REALS 10
 
+#define MODEL_FMU_STATE /* canGetAndSetFMUstate: the var-step master rolls back */
 #include "fmi2cs.h"
 
 enum {

@@ -1,0 +1,161 @@
+"""The var-step master: accuracy for fewer steps than a fixed step, rejected steps rolled back
+(FMI 2 FMU state), a step an FMU ends early redone up to there by all, and without rollback
+a run that adapts but never rejects, saying so."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import FmuFiles
+from tests.integration.test_cosim_master import monolithic, msd_system
+from twinlink.cosim import kinds
+from twinlink.cosim.model import Algorithm, Instance, Port, System
+from twinlink.cosim.protocol import SlaveLike
+from twinlink.cosim.results import Result
+from twinlink.cosim.runner import CosimRunError, run
+from twinlink.cosim.session import Session
+
+pytestmark = pytest.mark.integration
+
+# More damped than the fixed-step tests' pair: the motion dies out, and a var-step master
+# lengthens its steps as it does, where a fixed step stays as short as the start needs.
+DAMPED = {"d1": 1.0, "d2": 1.0}
+
+
+@pytest.fixture(scope="module")
+def fmus(fmu_files: FmuFiles) -> dict[str, Path]:
+    return {
+        "msd1.fmu": fmu_files("msd_mass"),
+        "msd2.fmu": fmu_files("msd_spring"),
+        "ticks.fmu": fmu_files("ticks"),
+    }
+
+
+def varstep(system: System, low: float, high: float) -> System:
+    algorithm = system.algorithm
+    return replace(
+        system,
+        algorithm=Algorithm("var-step", algorithm.size, low, high, master=algorithm.master),
+    )
+
+
+def simulate(system: System, fmus: dict[str, Path], tolerance: float) -> tuple[Result, Session]:
+    with Session(system, fmus, tolerance=tolerance) as session:
+        rows = [session.initialize()]
+        while (row := session.step()) is not None:
+            rows.append(row)
+    return Result(session.columns, np.vstack(rows), session.ended), session
+
+
+def error(result: Result, **params: float) -> float:
+    times = result.column("time")
+    reference = monolithic(times, **params)
+    x1, x2 = result.column("{msd1}.m1.x1"), result.column("{msd2}.m2.x2")
+    return float(max(np.max(np.abs(x1 - reference[0])), np.max(np.abs(x2 - reference[1]))))
+
+
+@pytest.mark.parametrize("master", ["gauss-seidel", "jacobi"])
+def test_var_step_converges_with_fewer_steps_than_a_fixed_step(
+    fmus: dict[str, Path], master: str
+) -> None:
+    fixed = run(msd_system(master, 0.005, **DAMPED), fmus)
+    finer = run(msd_system(master, 0.002, **DAMPED), fmus)
+    system = varstep(msd_system(master, 0.01, **DAMPED), 1e-4, 1.0)
+    errors, steps = [], []
+    for tolerance in (1e-3, 1e-4, 1e-5):
+        result, session = simulate(system, fmus, tolerance)
+        assert result.column("time")[-1] == system.end_time and session.ended == ""
+        errors.append(error(result, **DAMPED))
+        steps.append(session.steps)
+    assert errors[0] > errors[1] > errors[2] and steps[0] < steps[1] < steps[2]
+    # as accurate as a fixed step of 5 ms (2 ms) in less than half (two thirds) its steps
+    for k, reference in ((1, fixed), (2, finer)):
+        fixed_steps = len(reference.values) - 1
+        assert errors[k] <= error(reference, **DAMPED) * 1.1, (errors, steps)
+        assert steps[k] < fixed_steps * (0.5 if k == 1 else 0.67), (errors, steps)
+
+
+def test_rejected_steps_are_rolled_back(fmus: dict[str, Path]) -> None:
+    """Steps too long for the tolerance are redone from the saved FMU states: were they not
+    restored, each rejected step's motion would be added twice and the result would drift."""
+    system = varstep(msd_system("gauss-seidel", 0.5, **DAMPED), 1e-4, 1.0)
+    result, session = simulate(system, fmus, 1e-4)
+    assert session.varstep is not None and session.varstep.rollback
+    assert session.varstep.rejected >= 1 and session.warnings == []
+    assert error(result, **DAMPED) < 0.01
+    steps = np.diff(result.column("time"))
+    assert steps.min() < 0.1 and steps.max() > 0.1  # it shortened, then lengthened
+
+
+def without_rollback(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
+    """Instance `name` opens as an FMU that does not declare canGetAndSetFMUstate."""
+    opened = kinds.open_slave
+
+    def open_slave(instance: Instance, path: Path, workdir: Path) -> SlaveLike:
+        slave = opened(instance, path, workdir)
+        if instance.name == name:
+            slave.can_rollback = False
+        return slave
+
+    monkeypatch.setattr("twinlink.cosim.session.open_slave", open_slave)
+
+
+def test_without_rollback_the_step_adapts_but_none_is_rejected(
+    fmus: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    without_rollback(monkeypatch, "msd2.m2")
+    system = varstep(msd_system("gauss-seidel", 0.01, **DAMPED), 1e-4, 1.0)
+    result, session = simulate(system, fmus, 1e-4)
+    assert session.varstep is not None and not session.varstep.rollback
+    assert session.varstep.rejected == 0 and session.varstep.forced >= 1
+    assert len(session.warnings) == 1
+    assert "instance 'msd2.m2'" in session.warnings[0]
+    assert "cannot reject" in session.warnings[0]
+    assert error(result, **DAMPED) < 0.01
+    assert result.column("time")[-1] == system.end_time
+
+
+def with_ticks(system: System) -> System:
+    clock = Instance("clock", "ticks.fmu")
+    return replace(
+        system,
+        instances=(*system.instances, clock),
+        parameters={**system.parameters, Port("clock", "period"): 1.5},
+        log_variables={**system.log_variables, "clock": ("ticks",)},
+    )
+
+
+def test_a_step_an_fmu_ends_early_is_redone_by_all_up_to_there(fmus: dict[str, Path]) -> None:
+    """The ticks FMU discards every step passing a multiple of 1.5 s, stopping there: every
+    instance is brought back and steps to that time, so a row falls on each tick."""
+    plain = varstep(msd_system("jacobi", 0.05), 0.001, 0.5)
+    result, session = simulate(with_ticks(plain), fmus, 1e-3)
+    assert session.varstep is not None and session.varstep.shortened >= 6
+    times, ticks = result.column("time"), result.column("clock.ticks")
+    for k in range(1, 7):  # ticks at 1.5, 3, ..., 9 s
+        row = int(np.searchsorted(times, 1.5 * k))
+        assert times[row] == pytest.approx(1.5 * k, abs=1e-9) and ticks[row] == k
+        assert ticks[row - 1] == k - 1
+    assert error(result) < 1.5 * error(simulate(plain, fmus, 1e-3)[0])  # as accurate
+
+
+def test_a_step_ended_early_without_rollback_fails_naming_the_instance(
+    fmus: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    without_rollback(monkeypatch, "msd1.m1")
+    system = with_ticks(varstep(msd_system("jacobi", 0.05), 0.001, 0.5))
+    with pytest.raises(CosimRunError, match=r"instance 'clock' \(ticks.fmu\) ended the step"):
+        simulate(system, fmus, 1e-3)
+
+
+def test_a_fixed_step_ended_early_is_an_error_pointing_to_var_step(
+    fmus: dict[str, Path],
+) -> None:
+    system = with_ticks(msd_system("jacobi", 0.2))
+    with pytest.raises(CosimRunError, match="use the var-step algorithm") as err:
+        run(system, fmus)
+    assert "instance 'clock' (ticks.fmu) ended the step from t = 1.4 s early" in str(err.value)
