@@ -167,10 +167,11 @@ def test_the_worker_speaks_json_lines_columns_first_and_the_end_last(
         capture_output=True, env=env, cwd=tmp_path, timeout=120, check=True,
     )  # fmt: skip
     lines = [orjson.loads(line) for line in done.stdout.splitlines()]
-    assert lines[0] == {"columns": COLUMNS}
+    in_process = ["instance 'mass' (mass.fmu)", "instance 'spring' (spring.fmu)"]
+    assert lines[:2] == [{"in_process": in_process}, {"columns": COLUMNS}]
     assert lines[-1] == {"end": "finished", "message": lines[-1]["message"]}
     assert lines[-2] == {"progress": 1.0, "time": 2.0}
-    assert all(set(line) == {"progress", "time"} for line in lines[1:-1])  # no rows asked for
+    assert all(set(line) == {"progress", "time"} for line in lines[2:-1])  # no rows asked for
     _, rows = read_csv(spec.csv)
     assert len(rows) == 201
 
@@ -284,11 +285,37 @@ async def test_a_crashing_fmu_fails_the_run_with_the_signal_and_its_stack(
     crashes_at = first_time(doc, fmus, "mass.v1", lambda v: v > 0.2)
     assert end == "failed"
     assert message.startswith("the co-simulation process crashed at t = ")
-    assert "(killed by signal SIGSEGV (Segmentation fault))" in message
+    assert (
+        "(killed by signal SIGSEGV (Segmentation fault)), in the native code of one of "
+        "the FMUs it runs itself (instance 'mass' (mass.fmu), instance 'spring' "
+        "(spring.fmu), instance 'boom' (crash.fmu)); run them with isolated: true" in message
+    )
     assert "Fatal Python error: Segmentation fault" in message  # faulthandler's stack
     _, rows = read_csv(spec.csv)
     assert len(rows) > 1 and rows[-1, 0] <= crashes_at
     assert np.array_equal(rows, seen.rows[: len(rows)])
+
+
+async def test_a_crash_of_the_only_fmu_the_worker_runs_itself_names_it(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    doc = document(
+        tmp_path,
+        extra="boom: crash.fmu",
+        parameters="boom.u: 1.0\n  boom.threshold: 0.5",  # crashes at its first step
+    ).read_text()
+    isolated = doc.replace("mass: mass.fmu", "mass: {fmu: mass.fmu, isolated: true}")
+    isolated = isolated.replace("spring: spring.fmu", "spring: {fmu: spring.fmu, isolated: true}")
+    (tmp_path / "system.yaml").write_text(isolated)
+    spec = spec_of(tmp_path / "system.yaml", fmus)
+    end, message, _ = await run_job(spec)
+    assert end == "failed"
+    assert (
+        "(killed by signal SIGSEGV (Segmentation fault)), in the native code of "
+        "instance 'boom' (crash.fmu); its last output:" in message
+    )
+    header, rows = read_csv(spec.csv)
+    assert header == COLUMNS and len(rows) <= 1  # the header at once; the rows each batch
 
 
 async def test_a_crash_in_an_isolated_instance_fails_the_run_naming_it(

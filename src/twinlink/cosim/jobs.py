@@ -115,6 +115,7 @@ class _Ended:
     stopping: bool = False  # stop() was called
     killed: bool = False  # ...and the worker had to be killed
     time: float | None = None  # the last simulated time reported
+    in_process: list[str] | None = None  # the instances the worker runs itself, as it said
     stderr: deque[str] = field(default_factory=lambda: deque(maxlen=STDERR_LINES))
 
 
@@ -233,6 +234,8 @@ class CosimJob:
             await _call(self.on_progress, float(message["progress"]), self._state.time)
         elif "columns" in message:
             await _call(self.on_columns, list(message["columns"]))
+        elif "in_process" in message:
+            self._state.in_process = [str(label) for label in message["in_process"]]
         elif "end" in message:
             self._state.end, self._state.message = message["end"], str(message["message"])
 
@@ -268,9 +271,23 @@ def _crash_message(code: int | None, state: _Ended) -> str:
     else:
         how = f"exited with status {code} without saying how the run ended"
     at = f" at t = {state.time:g} s" if state.time is not None else ""
-    message = f"the co-simulation process crashed{at} ({how}), most likely in an FMU's native code"
+    message = f"the co-simulation process crashed{at} ({how}){_culprits(state.in_process)}"
     tail = "\n".join(state.stderr)
     return f"{message}; its last output:\n{tail}" if tail else message
+
+
+def _culprits(in_process: list[str] | None) -> str:
+    """Whose native code most likely crashed the worker: the FMUs it ran itself (an
+    isolated one's crash is reported by the worker, by name)."""
+    if not in_process:
+        return ""
+    if len(in_process) == 1:
+        return f", in the native code of {in_process[0]}"
+    return (
+        f", in the native code of one of the FMUs it runs itself ({', '.join(in_process)}); "
+        "run them with isolated: true to learn which (each in a process of its own, whose "
+        "crash names its instance)"
+    )
 
 
 def _kill_group(pgid: int) -> None:

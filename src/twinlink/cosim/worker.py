@@ -4,6 +4,7 @@ It reads one job (jobs.JobSpec, JSON) on stdin, runs the co-simulation in a Sess
 as fast as it goes; realtime: paced to the wall clock, pacing.py), writes the CSV as it
 goes, and answers with JSON lines on stdout:
 
+    {"in_process": ["instance 'm1' (msd1.fmu)", ...]}  (the FMUs this process runs itself)
     {"columns": ["time", "{msd1}.m1.x1", ...]}
     {"progress": 0.42, "time": 4.2}                  (at most about 100, and one at the end)
     {"rows": [[t, v1, ...], ...]}                    (with "stream": every batch_ms or 1000 rows)
@@ -28,6 +29,7 @@ import threading
 import time
 import traceback
 from collections.abc import Callable
+from pathlib import Path
 from types import FrameType
 from typing import IO, Any
 
@@ -37,6 +39,7 @@ import orjson
 from twinlink.domain.errors import TwinlinkError
 
 from .jobs import End, JobSpec
+from .kinds import is_python_fmu
 from .maestro import read_maestro
 from .model import System
 from .pacing import run_paced
@@ -132,12 +135,24 @@ def read_system(spec: JobSpec) -> System:
     return read_maestro(spec.document)
 
 
+def in_process(system: System, spec: JobSpec) -> list[str]:
+    """The instances whose FMU runs in this process (not isolated, not a Python FMU), as
+    their labels: told before any is opened, so that a crash of this process can be put
+    down to them (to one, when it is the only one)."""
+    return [
+        f"instance {i.name!r} ({Path(i.fmu).name})"
+        for i in system.instances
+        if not (i.isolated or is_python_fmu(spec.fmu_paths.get(i.fmu, Path(i.fmu))))
+    ]
+
+
 def run(spec: JobSpec, stop: threading.Event, out: Output) -> tuple[End, str]:
     """Run the job; how it ended and why. Raises what the Session raises (TwinlinkError
     for a system that cannot run or an FMU that failed)."""
     system = read_system(spec)
     if spec.mode == "batch" and system.end_time is None:
         return "failed", "a batch run needs an end time: give the document one"
+    out.send({"in_process": in_process(system, spec)})
     with Session(system, spec.fmu_paths) as session:
         out.send({"columns": list(session.columns)})
         with spec.csv.open("w", newline="", encoding="utf-8") as csv_file:
