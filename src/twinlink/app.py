@@ -29,6 +29,7 @@ from twinlink.api import (
     twins,
 )
 from twinlink.api import connectors as connectors_api
+from twinlink.api import cosims as cosims_api
 from twinlink.api import deployments as deployments_api
 from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
@@ -47,6 +48,7 @@ from twinlink.commands import CommandService, PropertyService
 from twinlink.config import Settings
 from twinlink.connectors.metrics import ConnectorCollector
 from twinlink.connectors.service import ConnectorService
+from twinlink.cosim.service import CosimService, CosimSettings
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.runs import RunService
 from twinlink.deploy.service import DeploymentService
@@ -118,6 +120,7 @@ class Services:
     deployments: DeploymentService | None = None  # twin packages deployed (deploy/)
     workspaces: WorkspaceService | None = None  # each user's JupyterLab (workspaces/)
     runs: RunService | None = None  # deployments' lifecycle runs (deploy/runs.py)
+    cosims: CosimService | None = None  # co-simulations made through the API (cosim/)
 
 
 def build_services(settings: Settings) -> Services:
@@ -176,7 +179,16 @@ def build_services(settings: Settings) -> Services:
     services.runs = RunService.configured(settings, store, auth, stores.holder, bool(stores.shared))
     services.runs.serve(services.deployments)
     services.workspaces = _workspace_service(settings, services)
+    services.cosims = _cosim_service(settings, services, stores.holder)
     return services
+
+
+def _cosim_service(settings: Settings, services: Services, node: str) -> CosimService:
+    shared = services.storage_shared is not None  # other nodes may run co-simulations
+    config = CosimSettings(settings.data_dir / "cosims", settings.cosim_max_mb * 2**20,
+                           settings.fmu_uploaders, node, shared)  # fmt: skip
+    return CosimService(services.store, services.registry, services.ingest, services.fmus,
+                        services.library, config)  # fmt: skip
 
 
 def _deployment_service(settings: Settings, services: Services, vault: Vault) -> DeploymentService:
@@ -303,6 +315,9 @@ async def start_services(services: Services, settings: Settings) -> Bootstrap | 
         if services.workspaces is not None:  # tokens a crash left are revoked
             await services.workspaces.open()
             started.append(services.workspaces.close)
+        if services.cosims is not None:  # runs a stop cut off are failed
+            await services.cosims.open()
+            started.append(services.cosims.close)
         return await services.auth.bootstrap(
             settings.admin_token.get_secret_value() if settings.admin_token else None,
             settings.admin_password.get_secret_value() if settings.admin_password else None,
@@ -324,6 +339,8 @@ async def _stop_started(started: list[Callable[[], Awaitable[object]]]) -> None:
 
 async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
+    if services.cosims is not None:  # their runs stopped, their rows so far stored
+        await services.cosims.close()
     if services.deployments is not None:  # terminate/clean phases no longer waited for
         await services.deployments.close()
     if services.runs is not None:  # their process groups killed, the runs cancelled
@@ -376,7 +393,8 @@ def create_app(
     app.state.readiness = Readiness(services.store, services.bus, settings.ready_timeout_s)
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
-    routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api)
+    routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api,
+                    cosims_api)  # fmt: skip
     app.include_router(library_api.router)  # /api/v1/library
     for module in (*routers, *routers_more, workspaces_api, search, pages, app_ui):
         app.include_router(module.router)

@@ -165,6 +165,11 @@ class Settings(BaseSettings):
         description="Who may upload and delete FMUs: admins, or also editors of the twin. An "
         "FMU is native code that runs in a worker process under the server's user.",
     )
+    cosim_max_mb: int = Field(
+        1024,
+        gt=0,
+        description="Largest co-simulation upload, in MB: the file and its unpacked files each.",
+    )
     library_max_mb: int = Field(
         1024,
         gt=0,
