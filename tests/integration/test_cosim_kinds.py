@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
+import zipfile
 from dataclasses import replace
 from pathlib import Path
 
@@ -151,6 +153,31 @@ def test_the_lag_as_model_exchange_steps_its_ode_and_its_state_event(
         assert value == pytest.approx(1 - math.exp(-time), abs=1e-4)
         assert crossings == (1 if time > math.log(2) else 0), seen
     assert seen[-1][0] == pytest.approx(1.0)
+
+
+def me_only(fmu: Path) -> Path:
+    """A copy of `fmu` without its <CoSimulation> element: a model exchange only FMU."""
+    out = fmu.with_name(f"{fmu.stem}_me.fmu")
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(out, "w") as dst:
+        for item in src.infolist():
+            data = src.read(item)
+            if item.filename == "modelDescription.xml":
+                data = re.sub(rb"<CoSimulation [^>]*/>", b"", data)
+            dst.writestr(item, data)
+    return out
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_open_slave_runs_a_model_exchange_only_fmu_under_a_solver(
+    tmp_path: Path, version: int
+) -> None:
+    both = _fmu_c.build_fmu(tmp_path, version)
+    for fmu, kind in ((both, Slave), (me_only(both), MeSlave)):
+        slave = open_slave(Instance("l", "l.fmu"), fmu, tmp_path / fmu.stem)
+        try:
+            assert type(slave) is kind
+        finally:
+            slave.close()
 
 
 @pytest.mark.parametrize("kind", [MeSlave, IsolatedSlave])
