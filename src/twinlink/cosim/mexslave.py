@@ -57,8 +57,9 @@ class MeSlave(Slave):
         self.fmi3 = self.info.fmi_version.startswith("3")
         with self._errors("cannot be used"):
             fmpy.extract(str(fmu_path), str(unzipdir))
-            self.fmu, self.api = instantiate(self.info, "ModelExchange", unzipdir, self.log, name)
+            # read before instantiating: a failure after it would leave the instance unfreed
             me = fmpy.read_model_description(str(unzipdir), validate=False).modelExchange
+            self.fmu, self.api = instantiate(self.info, "ModelExchange", unzipdir, self.log, name)
         self.can_rollback = bool(getattr(me, "canGetAndSetFMUstate", False))
         self._outputs = {}
         self._inputs = {}
