@@ -41,11 +41,11 @@ const results = (n: number) => ({
   data: [Array.from({ length: n }, (_, i) => i * 0.1), Array.from({ length: n }, () => 1), Array.from({ length: n }, () => -2)],
 });
 
-function renderPage(impl: (url: string, init?: RequestInit) => Response) {
+function renderPage(impl: (url: string, init?: RequestInit) => Response, state: unknown = null) {
   setToken("tl_x");
   const fetch = mockFetch(impl);
   render(
-    <MemoryRouter initialEntries={["/cosims/3"]} future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
+    <MemoryRouter initialEntries={[{ pathname: "/cosims/3", state }]} future={{ v7_startTransition: true, v7_relativeSplatPath: true }}>
       <Routes>
         <Route path="/cosims" element={<p>the list</p>} />
         <Route path="/cosims/:id" element={<CosimPage />} />
@@ -179,6 +179,11 @@ describe("CosimPage", () => {
     expect(graph.querySelectorAll(".cosim-box.cosim-loop")).toHaveLength(2);
     // x1 feeds the loop, v1 does not: one arrow each way, both in it.
     expect(graph.querySelectorAll(".cosim-edge.cosim-loop")).toHaveLength(2);
+  });
+
+  it("says once why the page that made it could not start it", async () => {
+    renderPage((url) => (url === "/api/v1/cosims/3" ? jsonResponse(cosim("created", 0)) : problem(404, url)), { startError: "the system has algebraic loops" });
+    expect(await screen.findByRole("alert")).toHaveTextContent("Made, but not started: the system has algebraic loops");
   });
 
   it("says why a run failed", async () => {

@@ -2,7 +2,7 @@
 // instances and the connection graph), and its results as a chart (read again while it runs)
 // and as Maestro's CSV.
 import { useEffect, useState } from "react";
-import { Link, useNavigate, useParams } from "react-router-dom";
+import { Link, useLocation, useNavigate, useParams } from "react-router-dom";
 import {
   deleteCosim,
   downloadCsv,
@@ -19,6 +19,7 @@ import { ConnectionGraph } from "../components/cosims/ConnectionGraph";
 import { formatSeconds, formatWhen, Progress, StateBadge } from "../components/cosims/CosimBits";
 import { ResultsChart } from "../components/cosims/ResultsChart";
 import { useApi } from "../hooks/useApi";
+import type { CreatedState } from "./CosimsPage";
 import "../components/processors/processors.css";
 import "../components/deployments/deployments.css";
 import "../components/cosims/cosims.css";
@@ -215,9 +216,22 @@ function Results({ cosim }: { cosim: Cosim }) {
   return <ResultsChart results={data} />;
 }
 
+/** Why the page that made it could not start it: shown once, taken out of the history entry so
+ * that a reload does not show it again. */
+function useStartError(): string | undefined {
+  const location = useLocation();
+  const navigate = useNavigate();
+  const [error] = useState(() => (location.state as CreatedState | null)?.startError);
+  useEffect(() => {
+    if (location.state) navigate(location.pathname, { replace: true, state: null });
+  }, [location.state, location.pathname, navigate]);
+  return error;
+}
+
 export function CosimPage() {
   const { id = "" } = useParams();
   const navigate = useNavigate();
+  const startError = useStartError();
   const cosim = useApi((signal) => getCosim(id, signal), [id]);
   const { reload } = cosim;
   const running = cosim.data ? isRunning(cosim.data) : false;
@@ -239,6 +253,7 @@ export function CosimPage() {
         {c.name} <StateBadge state={c.state} />
       </h1>
       {cosim.error && <ErrorMessage error={cosim.error} />}
+      {startError && c.state === "created" && <ErrorMessage error={new Error(`Made, but not started: ${startError}`)} />}
       <Progress cosim={c} wide />
       {c.message && (
         <p className={c.state === "failed" ? "proc-error-text" : "muted"} role={c.state === "failed" ? "alert" : "status"}>

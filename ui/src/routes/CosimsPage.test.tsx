@@ -1,7 +1,7 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
 import { render, screen, waitFor, within } from "@testing-library/react";
 import userEvent from "@testing-library/user-event";
-import { MemoryRouter, Route, Routes, useParams } from "react-router-dom";
+import { MemoryRouter, Route, Routes, useLocation, useParams } from "react-router-dom";
 import { setToken } from "../api/client";
 import { jsonResponse, mockFetch, problem } from "../test/fetch";
 import { CosimsPage } from "./CosimsPage";
@@ -27,7 +27,8 @@ const cosim = (id: number, name: string, state: string, progress: number) => ({
 });
 
 function Opened() {
-  return <p>page of {useParams().id}</p>;
+  const state = useLocation().state as { startError?: string } | null;
+  return <p>page of {useParams().id}{state?.startError ? `: ${state.startError}` : ""}</p>;
 }
 
 function renderPage(impl: (url: string, init?: RequestInit) => Response) {
@@ -112,6 +113,21 @@ describe("CosimsPage", () => {
     await userEvent.click(within(form).getByRole("button", { name: "Create" }));
     expect(await within(form).findByRole("alert")).toHaveTextContent("(422): mm.json: connections: {msd9}.m.x names no FMU in fmus");
     await waitFor(() => expect(fetch.mock.calls.filter(([, init]) => init?.method === "POST")).toHaveLength(1));
+  });
+
+  it("opens the page of one it made but could not start, with the reason", async () => {
+    renderPage((url, init) => {
+      if (url === "/api/v1/cosims") return jsonResponse({ cosims: [] });
+      if (url.startsWith("/api/v1/twins?")) return twins;
+      if (url.startsWith("/api/v1/cosims?") && init?.method === "POST") return jsonResponse(cosim(8, "loop", "created", 0), 201);
+      if (url === "/api/v1/cosims/8/start") return problem(422, "the system has algebraic loops");
+      return problem(404, url);
+    });
+    await userEvent.click(await screen.findByRole("button", { name: "New co-simulation" }));
+    const form = screen.getByRole("form", { name: "New co-simulation" });
+    await userEvent.upload(within(form).getByLabelText("File"), new File(["a: 1"], "loop.yaml"));
+    await userEvent.click(within(form).getByRole("button", { name: "Create" }));
+    expect(await screen.findByText("page of 8: the system has algebraic loops")).toBeInTheDocument();
   });
 });
 

@@ -11,6 +11,11 @@ import "../components/processors/processors.css";
 import "../components/deployments/deployments.css";
 import "../components/cosims/cosims.css";
 
+/** Handed to the new co-simulation's page: why it would not start, if it would not. */
+export interface CreatedState {
+  startError?: string;
+}
+
 /** How often the list is read again (states and progress move while a run goes on). */
 export const LIST_REFRESH_MS = 2000;
 
@@ -19,8 +24,9 @@ export function CosimsPage() {
   const [creating, setCreating] = useState(false);
   const navigate = useNavigate();
 
-  function created(cosim: Cosim) {
-    navigate(`/cosims/${encodeURIComponent(String(cosim.id))}`);
+  function created(cosim: Cosim, startError?: string) {
+    const state: CreatedState = { startError };
+    navigate(`/cosims/${encodeURIComponent(String(cosim.id))}`, { state });
   }
 
   return (

@@ -13,7 +13,9 @@ export const ACCEPT = ".json,.yaml,.yml,.zip,.ssp,.tar,.tgz,.tar.gz";
 const TWINS_LISTED = 200;
 
 interface Props {
-  onCreated: (cosim: Cosim) => void;
+  /** Made; `startError` when it was made but would not start (an algebraic loop, no end time
+   * in batch): its page says why. */
+  onCreated: (cosim: Cosim, startError?: string) => void;
   onCancel: () => void;
 }
 
@@ -56,9 +58,16 @@ export function NewCosim({ onCreated, onCancel }: Props) {
     setBusy(true);
     setError(null);
     try {
-      let cosim = await createCosim({ file, name: name.trim(), twin: twin || undefined, prefix: prefix || undefined, stream: stream.trim() || undefined, mode, factor: Number(factor) });
-      if (start) cosim = await startCosim(String(cosim.id));
-      onCreated(cosim);
+      const cosim = await createCosim({ file, name: name.trim(), twin: twin || undefined, prefix: prefix || undefined, stream: stream.trim() || undefined, mode, factor: Number(factor) });
+      let startError: string | undefined;
+      if (start) {
+        try {
+          await startCosim(String(cosim.id));
+        } catch (err) {
+          startError = err instanceof Error ? err.message : String(err);
+        }
+      }
+      onCreated(cosim, startError);
     } catch (err) {
       setError(err instanceof Error ? err : new Error(String(err)));
     } finally {
