@@ -11,6 +11,7 @@ import io
 import os
 import subprocess
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +19,7 @@ from typing import Any
 
 import numpy as np
 import orjson
+import psutil
 import pytest
 
 from tests.conftest import FmuFiles
@@ -374,6 +376,56 @@ async def test_a_worker_that_cannot_start_is_a_failed_run(
     spec = spec_of(document(tmp_path), fmus)
     end, message, _ = await run_job(spec, python=str(tmp_path / "no-python"))
     assert end == "failed" and message.startswith("could not start: ")
+
+
+# A server: starts the worker with its output to a file (no pipe to break), gives it its
+# job, says the worker's pid, and waits to be killed.
+SERVER = """
+import subprocess, sys, time
+spec, out = sys.argv[1], sys.argv[2]
+with open(out, "wb") as lines:
+    worker = subprocess.Popen([sys.executable, "-m", "twinlink.cosim.worker"],
+                              stdin=subprocess.PIPE, stdout=lines)
+worker.stdin.write(open(spec, "rb").read())
+worker.stdin.close()
+print(worker.pid, flush=True)
+time.sleep(600)
+"""
+
+
+def test_a_run_whose_server_died_stops(tmp_path: Path, fmus: dict[str, Path]) -> None:
+    doc = document(tmp_path, end=1000.0)
+    spec = spec_of(doc, fmus, mode="realtime", stream=False)  # writes nothing for long
+    (tmp_path / "job.json").write_bytes(spec.to_json())
+    out = tmp_path / "lines"
+    server = subprocess.Popen(
+        [sys.executable, "-c", SERVER, str(tmp_path / "job.json"), str(out)],
+        stdout=subprocess.PIPE, env=worker_environment(tmp_path), cwd=tmp_path,
+    )  # fmt: skip
+    assert server.stdout is not None
+    worker = psutil.Process(int(server.stdout.readline()))
+    server.stdout.close()
+    wait_for(lambda: b'"columns"' in out.read_bytes(), "the worker to start its run")
+    server.kill()
+    server.wait()
+    wait_for(lambda: b'"end"' in out.read_bytes(), "the worker to end its run")
+    end = orjson.loads(out.read_bytes().splitlines()[-1])
+    assert end["end"] == "stopped" and end["message"].startswith("stopped at t = ")
+    wait_for(lambda: not _alive(worker), "the worker to exit")
+
+
+def _alive(process: psutil.Process) -> bool:
+    try:
+        return process.status() != psutil.STATUS_ZOMBIE
+    except psutil.NoSuchProcess:
+        return False
+
+
+def wait_for(condition: Callable[[], bool], what: str, timeout: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.05)
 
 
 def test_the_worker_gets_none_of_the_servers_settings(

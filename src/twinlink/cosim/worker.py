@@ -19,7 +19,9 @@ the Python stack on stderr, and the server (jobs.py) tells it from the exit stat
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import ctypes
 import faulthandler
 import logging
 import resource
@@ -51,6 +53,7 @@ log = logging.getLogger("twinlink.cosim.worker")
 
 MAX_BATCH_ROWS = 1000
 PROGRESS_EVERY = 0.01  # of the span: at most about 100 progress lines a run
+_PR_SET_PDEATHSIG = 1
 
 
 class Output:
@@ -189,6 +192,15 @@ def _at_end(session: Session) -> bool:
     return bool(session.ended) or (end is not None and session.time >= end)
 
 
+def _stop_with_parent() -> None:
+    """Be sent SIGTERM (a stop) when the process that started this one dies (Linux): a
+    server killed outright leaves no run behind, even one that writes nothing for a broken
+    pipe to end it (a real-time run with no end time and no rows sent)."""
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+
+
 def main() -> int:
     # A stop is the server's SIGTERM (after the current step); Ctrl-C is the server's own.
     stop = threading.Event()
@@ -198,6 +210,7 @@ def main() -> int:
 
     signal.signal(signal.SIGTERM, stopping)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _stop_with_parent()
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))  # a crashing FMU leaves no core file
     faulthandler.enable(sys.stderr)  # ...but its stack, for the run's message
     logging.basicConfig(
