@@ -139,7 +139,7 @@ def _mistake(example: Path, name: str, text: str) -> Done:
         ("noend.json", '{"fmus": {"{m}": "MassSpringDamper1.fmu"}, '
          '"logVariables": {"{m}.i": ["x1"]}, "algorithm": {"type": "fixed-step", "size": 0.1}}',
          "has no end time: give one with --end"),
-        ("notes.txt", "hello", "not a co-simulation file twinlink reads"),
+        ("notes.txt", "hello", "notes.txt: line 1, column 1: is not a mapping"),
     ],
 )  # fmt: skip
 def test_a_bad_file_is_one_line_and_exit_2(example: Path, name: str, text: str, says: str) -> None:
@@ -229,3 +229,92 @@ def test_a_wrong_device_token_fails_the_run_saying_so(example: Path, server: Ser
                     "--url", server.url, cwd=example)  # fmt: skip
     assert done.code == 1 and "Traceback" not in done.err
     assert "the samples were refused (HTTP 401)" in done.err and "--device-token" in done.err
+
+
+def _admin(server: Server) -> dict[str, str]:
+    return {"TWINLINK_URL": server.url, "TWINLINK_TOKEN": server.admin_token}
+
+
+def _view(example: Path, server: Server, cosim_id: str) -> dict[str, Any]:
+    done = twinlink("cosim", "status", cosim_id, "--json", cwd=example, **_admin(server)).ok()
+    view: dict[str, Any] = json.loads(done.out)
+    return view
+
+
+def test_the_server_runs_a_file_created_from_here(example: Path, server: Server) -> None:
+    """`create` uploads the multi-model with the FMUs beside it (one tar), the server runs
+    it, and its results are the rows the same file gives here."""
+    slug, _ = make_twin(server, devices=())
+    made = twinlink("cosim", "create", "msd.json", "--twin", slug, "--start", cwd=example,
+                    **_admin(server)).ok().out  # fmt: skip
+    cosim_id, rest = made.split(" ", 1)
+    assert rest.startswith("msd: "), made
+    view = poll_until(
+        lambda: (
+            (v := _view(example, server, cosim_id))["state"] not in ("created", "running") and v
+        ),
+        "the co-simulation to end",
+        60,
+    )
+    assert view["state"] == "finished", view
+    assert [i["name"] for i in view["system"]["instances"]] == ["msd1.msd1i", "msd2.msd2i"]
+    status = twinlink("cosim", "status", cosim_id, cwd=example, **_admin(server)).ok().out
+    assert status.strip().startswith(f"{cosim_id} msd: finished 100%"), status
+
+    twinlink("cosim", "results", cosim_id, "-o", "server.csv", cwd=example,
+             **_admin(server)).ok()  # fmt: skip
+    here = _rows(twinlink("cosim", "run", "msd.json", cwd=example).ok().out)
+    there = _rows((example / "server.csv").read_text())
+    assert there[0] == here[0] == HEADER
+    assert [[float(v) for v in r] for r in there[1:]] == [[float(v) for v in r] for r in here[1:]]
+    assert len(_history(server, slug)) == 1001  # and into the twin's history
+
+    listed = twinlink("cosim", "list", cwd=example, **_admin(server)).ok().out.splitlines()
+    assert listed[0].split()[:3] == ["ID", "NAME", "STATE"]
+    assert [cosim_id, "msd", "finished"] in [line.split()[:3] for line in listed[1:]]
+    assert twinlink("cosim", "rm", cosim_id, cwd=example, **_admin(server)).ok().out.strip() == (
+        f"{cosim_id}: deleted"
+    )
+    gone = twinlink("cosim", "status", cosim_id, cwd=example, **_admin(server))
+    assert gone.code == 1 and "(404)" in gone.err and "Traceback" not in gone.err
+
+
+def test_a_realtime_cosim_on_the_server_is_stopped_from_here(example: Path, server: Server) -> None:
+    model = json.loads((EXAMPLE / "msd.json").read_text())
+    model["endTime"] = 3600.0
+    (example / "long.json").write_text(json.dumps(model))
+    made = twinlink("cosim", "create", "long.json", "--mode", "realtime", "--factor", "1",
+                    cwd=example, **_admin(server)).ok().out  # fmt: skip
+    cosim_id = made.split(" ", 1)[0]
+    assert made.strip().endswith("long: created"), made
+    started = twinlink("cosim", "start", cosim_id, cwd=example, **_admin(server)).ok().out
+    assert f"{cosim_id} long: running" in started
+    poll_until(lambda: (_view(example, server, cosim_id).get("sim_time") or 0) > 0,
+               "the run to get going", 60)  # fmt: skip
+    stopped = twinlink("cosim", "stop", cosim_id, cwd=example, **_admin(server)).ok().out
+    assert stopped.startswith(f"{cosim_id} long: "), stopped
+    view = poll_until(
+        lambda: (v := _view(example, server, cosim_id))["state"] != "running" and v,
+        "the stop",
+        60,
+    )
+    assert view["state"] == "stopped", view
+    rows = _rows(twinlink("cosim", "results", cosim_id, cwd=example, **_admin(server)).ok().out)
+    assert rows[0] == HEADER and 1 < len(rows) < 360_001
+
+
+def test_create_refuses_what_is_not_a_cosimulation(example: Path, server: Server) -> None:
+    (example / "notes.txt").write_text("hello")
+    done = twinlink("cosim", "create", "notes.txt", cwd=example, **_admin(server))
+    assert done.code == 2 and "give a .json, .yaml, .ssp" in done.err
+    (example / "noalgorithm.json").write_text('{"fmus": {"{a}": "a.fmu"}}')
+    unread = twinlink("cosim", "create", "noalgorithm.json", cwd=example, **_admin(server))
+    assert unread.code == 2 and "noalgorithm.json: algorithm: missing" in unread.err
+    # read here, but its FMU is nowhere: the server says so
+    (example / "nofmus.json").write_text(
+        '{"fmus": {"{a}": "a.fmu"}, "logVariables": {"{a}.i": ["y"]}, "endTime": 1, '
+        '"algorithm": {"type": "fixed-step", "size": 0.1}}'
+    )
+    refused = twinlink("cosim", "create", "nofmus.json", cwd=example, **_admin(server))
+    assert refused.code == 1 and "(422)" in refused.err and "a.fmu" in refused.err, refused.err
+    assert "Traceback" not in refused.err + unread.err

@@ -20,20 +20,13 @@ from twinlink.cli.client import DEFAULT_URL, saved_credentials
 from twinlink.cli.common import HelpGroup
 from twinlink.cli.cosimapi import api_commands
 from twinlink.cli.cosimcheck import describe
-from twinlink.cli.cosimrun import Loaded, execute, load, signal_name
+from twinlink.cli.cosimrun import FileError, Loaded, execute, load, signal_name
 from twinlink.cli.cosimsend import DeviceSender, SendError
 from twinlink.cosim.model import CosimFormatError
 from twinlink.cosim.slaves import CosimRunError
 from twinlink.domain.errors import InvalidInputError
 
 FILE = click.Path(path_type=Path, dir_okay=False)
-
-
-class FileError(click.ClickException):
-    """A file that cannot be run as written: exit status 2 (as click's usage errors), the
-    message naming the file and the key, line or instance."""
-
-    exit_code = 2
 
 
 @click.group(cls=HelpGroup)

@@ -19,9 +19,9 @@ import click
 
 from twinlink.cli.client import Client
 from twinlink.cli.common import client_for, emit, show_value, table
-from twinlink.cosim.maestro import read_maestro
+from twinlink.cli.cosimrun import FileError
 from twinlink.cosim.model import CosimFormatError, System
-from twinlink.cosim.yamlform import read_yaml
+from twinlink.cosim.reading import read_system
 
 BASE = "/api/v1/cosims"
 TYPES = {
@@ -80,9 +80,9 @@ def upload(path: Path) -> tuple[bytes, str]:
         )
     if suffix in (".json", ".yaml", ".yml"):
         try:
-            system = read_maestro(path) if suffix == ".json" else read_yaml(path)
+            system = read_system(path)
         except CosimFormatError as err:
-            raise click.ClickException(str(err)) from err
+            raise FileError(str(err)) from err
         files = _with_local_fmus(path, system)
         if len(files) > 1:
             return _tar(files), "application/x-tar"
@@ -90,9 +90,11 @@ def upload(path: Path) -> tuple[bytes, str]:
 
 
 def _status(c: dict[str, Any]) -> str:
-    progress = c.get("progress")
-    done = f" {progress:.0%}" if isinstance(progress, int | float) else ""
-    at = f" t = {c['sim_time']:g} s" if isinstance(c.get("sim_time"), int | float) else ""
+    """`3 msd: running 42% t = 4.2 s` (a cosim not run yet has neither)."""
+    progress, sim_time = c.get("progress"), c.get("sim_time")
+    ran = c["state"] != "created"
+    done = f" {progress:.0%}" if ran and isinstance(progress, int | float) else ""
+    at = f" t = {sim_time:g} s" if ran and isinstance(sim_time, int | float) else ""
     message = f" ({c['message']})" if c.get("message") else ""
     return f"{c['id']} {c['name']}: {c['state']}{done}{at}{message}"
 

@@ -11,6 +11,7 @@ from twinlink.cli.cosimrun import Loaded
 from twinlink.cosim.graph import algebraic_loops, describe_loop, feedthrough_of
 from twinlink.cosim.kinds import kind_of
 from twinlink.cosim.model import Port
+from twinlink.cosim.reading import unapplied
 from twinlink.processors.fmuinfo import FmuError, inspect_fmu
 
 
@@ -42,6 +43,7 @@ def describe(loaded: Loaded) -> tuple[list[str], list[list[Port]]]:
     recorded = [f"{i}.{v}" for i, names in system.log_variables.items() for v in names]
     lines.append(f"recorded ({len(recorded)}): {', '.join(recorded) or 'none'}")
     lines.append(f"algorithm: {_algorithm(loaded)}")
+    lines += [f"  {note}" for note in unapplied(loaded.path)]
     loops = algebraic_loops(system, feedthrough.get)
     if loops:
         lines.append(f"algebraic loops ({len(loops)}):")
@@ -57,7 +59,8 @@ _FORMATS = {"maestro": "Maestro multi-model", "ssp": "SSP", "yaml": "YAML"}
 def _algorithm(loaded: Loaded) -> str:
     system, a = loaded.system, loaded.system.algorithm
     if a.kind == "var-step":
-        step = f"var-step from {a.size:g} s, between {a.min_size:g} and {a.max_size:g} s"
+        low, high = a.min_size or a.size, a.max_size or a.size
+        step = f"var-step from {a.size:g} s, between {low:g} and {high:g} s"
     else:
         step = f"fixed-step {a.size:g} s"
     end = "open end" if system.end_time is None else f"to {system.end_time:g} s"

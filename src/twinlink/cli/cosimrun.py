@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import IO
 
+import click
 import numpy as np
 import numpy.typing as npt
 
@@ -27,14 +28,21 @@ from twinlink.cli.cosimsend import DeviceSender, SendError
 from twinlink.cosim.maestro import read_maestro
 from twinlink.cosim.model import CosimFormatError, System
 from twinlink.cosim.pacing import run_paced
+from twinlink.cosim.reading import format_of, read_system
 from twinlink.cosim.session import Session
-from twinlink.cosim.ssp import extract, read_ssp
-from twinlink.cosim.yamlform import read_yaml
+from twinlink.cosim.ssp import extract
 from twinlink.domain.errors import InvalidInputError
 
 Row = npt.NDArray[np.float64]
 Say = Callable[[str], None]
 PROGRESS_MARKS = 10  # progress lines per run (each 10 %), so a run's log stays short
+
+
+class FileError(click.ClickException):
+    """A file that cannot be run as written: exit status 2 (as click's usage errors), the
+    message naming the file and the key, line or instance."""
+
+    exit_code = 2
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,32 +62,25 @@ def load(
     end: float | None = None,
     step: float | None = None,
 ) -> Iterator[Loaded]:
-    """Read the co-simulation at `path` by its extension (.json Maestro, .yaml/.yml twinlink's
-    form, .ssp an SSP archive), with `end` and `step` replacing the file's end time and
-    step size. CosimFormatError names the file and what is wrong; an SSP's unpacked FMUs are
-    removed when the block ends."""
-    suffix = path.suffix.lower()
+    """Read the co-simulation at `path` (cosim.reading: a Maestro multi-model or its coe.json,
+    twinlink's YAML form, an SSP archive), with `end` and `step` replacing the file's end
+    time and step size. CosimFormatError names the file and what is wrong; an SSP's
+    unpacked FMUs are removed when the block ends."""
     if not path.is_file():
         raise CosimFormatError(f"{path}: no such file")
-    if settings is not None and suffix != ".json":
-        raise CosimFormatError(f"{path}: --settings goes with a Maestro multi-model (.json)")
     unpacked: Path | None = None
     try:
-        if suffix == ".json":
+        if settings is not None:
+            if format_of(path) != "maestro":
+                raise CosimFormatError(f"{path}: --settings goes with a Maestro multi-model")
             system = read_maestro(path, settings=settings)
-            base = path.parent
-        elif suffix in (".yaml", ".yml"):
-            system, base = read_yaml(path), path.parent
-        elif suffix == ".ssp":
-            system = read_ssp(path, step_size=step)
+        else:
+            system = read_system(path, step_size=step)
+        base = path.parent
+        if system.source == "ssp":
             unpacked = Path(tempfile.mkdtemp(prefix="twinlink-ssp-"))
             extract(path, unpacked)
             base = unpacked
-        else:
-            raise CosimFormatError(
-                f"{path}: not a co-simulation file twinlink reads: a Maestro multi-model "
-                "(.json), twinlink's YAML form (.yaml, .yml) or an SSP archive (.ssp)"
-            )
         system = _override(system, end, step)
         yield Loaded(path, system, _fmu_paths(path, system, base))
     finally:
@@ -90,7 +91,7 @@ def load(
 def _override(system: System, end: float | None, step: float | None) -> System:
     if step is not None:
         if not step > 0:
-            raise InvalidInputError(f"--step must be positive, not {step:g}")
+            raise click.BadParameter(f"must be positive, not {step:g}", param_hint="--step")
         system = replace(system, algorithm=replace(system.algorithm, size=step))
     if end is not None:
         system = replace(system, end_time=end)
