@@ -11,6 +11,7 @@ one step ahead of the plant. The checks below say which sample each one saw.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ import pytest
 from tests.conftest import FmuFiles
 from twinlink.cosim.model import Algorithm, Connection, Instance, Port, System
 from twinlink.cosim.runner import Result, run
+from twinlink.cosim.session import Session
 
 pytestmark = pytest.mark.integration
 
@@ -137,3 +139,38 @@ def test_the_filter_tracks_the_box_and_the_unmeasured_heater(result: tuple[str, 
     assert air_error[after].max() < 1e-3 and heater_error[after].max() < 0.01
     later = t[:n] >= 300
     assert air_error[later].max() < 1e-4 and heater_error[later].max() < 1e-3
+
+
+def test_a_colder_room_from_outside_keeps_the_heater_on_longer(
+    incubator: dict[str, Path],
+) -> None:
+    """The room's temperature as an external input (mode 3, as the cosim processor feeds
+    live data): after 1500 s the room drops from 21 to 15 degC. The controller holds the box
+    in its band by heating longer, as the heat balance says it must (heater power times its
+    share of the time = G_box (35 - T_room), the band's middle on average), and the filter,
+    told the same room temperature, keeps tracking."""
+    rooms = [Port("plant", "T_room"), Port("kalman", "T_room")]
+    system = replace(incubator_system("jacobi"), end_time=None)  # an open end, as live runs
+    with Session(system, incubator, external_inputs=rooms) as session:
+        session.set_inputs(dict.fromkeys(rooms, 21.0))
+        rows = [session.initialize()]
+        for k in range(1, 3001):
+            if k == 1501:
+                session.set_inputs(dict.fromkeys(rooms, 15.0))
+            row = session.step()
+            assert row is not None
+            rows.append(row)
+        columns = session.columns
+    values = np.vstack(rows)
+    t, temp, on, est = (
+        values[:, columns.index(c)]
+        for c in ("time", "plant.T", "controller.heater_on", "kalman.T_est")
+    )
+    power, g_box = 12.15 * 1.53, 0.79  # the plant's defaults
+    for part, room in (((t > 1000) & (t <= 1500), 21.0), (t > 2000, 15.0)):  # settled
+        # a colder room pulls the box further below the band before the heater's warmth,
+        # delayed by its own heat capacity, arrives
+        assert T_LOW - 1.0 < temp[part].min() < temp[part].max() < T_HIGH + 1.0
+        share = g_box * ((T_LOW + T_HIGH) / 2 - room) / power
+        assert on[part].mean() == pytest.approx(share, abs=0.08), room
+    assert np.abs(est[t > 300] - temp[t > 300]).max() < 1e-3
