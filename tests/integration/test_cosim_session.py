@@ -79,6 +79,19 @@ def test_external_inputs_hold_until_set_again(msd: dict[str, Path]) -> None:
     assert len(x) == 10 and x[0] < 0.5 and all(b < a for a, b in itertools.pairwise(x))
 
 
+def test_an_external_input_not_set_keeps_its_start_value(msd: dict[str, Path]) -> None:
+    """fk starts at c1 x1 (the file's parameter), not at 0: the mass stays still."""
+    fk = Port(MASS.name, "fk")
+    system = mass_alone(1.0)
+    system = replace(system, parameters={**system.parameters, fk: 2.0})
+    with Session(system, msd, external_inputs=[fk]) as session:
+        rows = [session.initialize()]
+        while (row := session.step()) is not None:
+            rows.append(row)
+    values = np.vstack(rows)
+    assert len(values) == 101 and np.all(values[:, 1] == 0.5) and np.all(values[:, 2] == 2.0)
+
+
 def test_an_external_input_must_be_one_the_session_was_given(msd: dict[str, Path]) -> None:
     fk, c1 = Port(MASS.name, "fk"), Port(MASS.name, "c1")
     refused = pytest.raises(InvalidInputError, match=r"msd1\.m1\.c1 is not an external input")

@@ -19,7 +19,7 @@ from twinlink.domain.errors import InvalidInputError
 from .master import Progress
 from .model import System
 from .results import Result
-from .session import Session, check
+from .session import Session
 from .slaves import CosimRunError
 
 __all__ = ["CosimRunError", "Result", "run"]
@@ -43,7 +43,6 @@ def run(
     start, end = system.start_time, system.end_time
     if end is None or not end > start:
         raise InvalidInputError(f"a batch run needs an end time after the start time ({start:g})")
-    check(system, fmu_paths)
     ended = ""
     with Session(system, fmu_paths) as session:
         rows = [session.initialize()]

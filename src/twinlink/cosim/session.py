@@ -89,18 +89,18 @@ class Session:
                 values[port.instance].append((port.variable, value))
             for slave in self._slaves:
                 slave.set_start_values(values[slave.name])
+            self.varstep: VarStep | None = None
+            if system.algorithm.kind == "var-step":
+                watch = _watched(system, feedthrough, self._slaves)
+                self.varstep = VarStep(self._master, system.algorithm, watch, tolerance)
+                if watch and not self.varstep.rollback:
+                    self._warn(_no_rollback(self._slaves))
         except BaseException:
             self.close()
             raise
         self._ncols = len(self.columns)
         self._h = system.algorithm.size
         self._last = _last_step(system)  # the index of the last fixed step, None: open end
-        self.varstep: VarStep | None = None
-        if system.algorithm.kind == "var-step":
-            watch = _watched(system, feedthrough, self._slaves)
-            self.varstep = VarStep(self._master, system.algorithm, watch, tolerance)
-            if not self.varstep.rollback:
-                self._warn(_no_rollback(self._slaves))
 
     def __enter__(self) -> Session:
         return self
@@ -151,6 +151,13 @@ class Session:
             return None
         if not self._initialized:
             raise RuntimeError("Session.initialize() must be called before step()")
+        try:
+            return self._step()
+        except BaseException:
+            self._done = True  # an instance failed: nothing more can be stepped
+            raise
+
+    def _step(self) -> Row:
         t, k, end, master = self.time, self.steps + 1, self.system.end_time, self._master
         if self.varstep is not None:
             t_next = self.varstep.step(t, end)
@@ -338,7 +345,16 @@ def _wire(
     }
     jacobi = system.algorithm.master == "jacobi"
     master = Master(slaves, links, _records(recorded), jacobi)
-    return master, tuple(columns), {p: (g.buffer, i) for p, (g, i) in inputs.items()}
+    external_buffers = {p: (g.buffer, i) for p, (g, i) in inputs.items()}
+    for port, (buffer, index) in external_buffers.items():
+        # until set, an external input keeps the value the file or the FMU starts it with
+        start = system.parameters.get(port)
+        if start is None:
+            var = by_name[port.instance].info.variable(port.variable)
+            start = var.start if var is not None else None
+        if isinstance(start, (bool, int, float)):
+            buffer[index] = start
+    return master, tuple(columns), external_buffers
 
 
 def _records(recorded: list[tuple[Group, int]]) -> list[Record]:

@@ -30,6 +30,7 @@ time that instance reached (halved if it got nowhere); without, the run fails na
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 
@@ -43,6 +44,9 @@ from .slaves import Buffer, CosimRunError
 TOLERANCE = 1e-3  # relative, per connected output; see the module docstring
 _GROW, _SHRINK, _SAFETY = 2.0, 0.2, 0.9
 _RETRIES = 60  # attempts at one step before the master gives up (min_size stops it sooner)
+_SLIVER = 0.01  # a last step this much (of h) short of the end is stretched to it
+
+_log = logging.getLogger("twinlink.cosim")
 
 
 class VarStep:
@@ -82,8 +86,10 @@ class VarStep:
         master = self.master
         h = self.h
         for _ in range(_RETRIES):
-            if end is not None and t + h > end:
+            # the last step reaches the end exactly, and leaves no sliver before it
+            if end is not None and t + h * (1 + _SLIVER) >= end:
                 h = end - t
+            target = end if end is not None and h == end - t else t + h
             states = [s.save_state() for s in master.slaves] if self.rollback else []
             try:
                 reached = master.step(t, h)
@@ -99,12 +105,11 @@ class VarStep:
                     h = max(self.min_size, h * max(_SHRINK, min(_SAFETY, _SAFETY / err**0.5)))
                     continue
             finally:
-                for slave, state in zip(master.slaves, states, strict=False):
-                    slave.free_state(state)
+                self._free(states)
             if err > 1.0:
                 self.forced += 1
             self._accept(y, h, err)
-            return t + h
+            return target
         raise CosimRunError(
             f"the var-step master found no acceptable step from t = {t:g} s in {_RETRIES} "
             f"attempts (the last of {h:g} s)"
@@ -122,6 +127,14 @@ class VarStep:
         self._restore(states)
         self.shortened += 1
         return reached - t if reached > t else h / 2
+
+    def _free(self, states: list[object]) -> None:
+        """Free the saved states; never raises (it runs while an error may be on its way)."""
+        for slave, state in zip(self.master.slaves, states, strict=False):
+            try:
+                slave.free_state(state)
+            except Exception as err:  # the instance is freed with its states when closed
+                _log.warning("%s: %s", slave.label, err)
 
     def _restore(self, states: list[object]) -> None:
         for slave, state in zip(self.master.slaves, states, strict=True):
