@@ -2,75 +2,27 @@
 // YAML form, or a folder as a zip or tar: an SSP archive or a document beside its FMUs), run
 // by the server in a process of their own, their results as a chart and as Maestro's CSV.
 import { apiFetch, apiRequest } from "./client";
+import type { Schemas } from "./types";
 
 export type CosimState = "created" | "running" | "finished" | "stopped" | "failed";
 export type CosimMode = "batch" | "realtime";
-export type InstanceKind = "co-simulation" | "model-exchange" | "python";
 
-export interface CosimInstance {
-  name: string;
-  fmu: string;
-  kind: InstanceKind | string;
-  isolated: boolean;
-}
+/** An instance: `kind` is co-simulation, model-exchange or python. */
+export type CosimInstance = Schemas["CosimInstance"];
+/** A connection; each port "instance.variable", where an instance's name may hold dots itself
+ * ("msd1.m1" in Maestro). */
+export type CosimConnection = Schemas["CosimConnection"];
+export type CosimAlgorithm = Schemas["CosimAlgorithm"];
+/** The system as read from the file; `loops` the algebraic loops, each as its ports in order
+ * from an output (the last feeds the first). */
+export type CosimSystem = Schemas["CosimSystem"];
 
-/** A port as the API writes it: "instance.variable" (an instance's name may hold dots itself,
- * "msd1.m1" in Maestro), or the two parts. */
-export type PortRef = string | { instance: string; variable: string };
-
-export interface CosimConnection {
-  source: PortRef;
-  target: PortRef;
-}
-
-export interface CosimAlgorithm {
-  kind: "fixed-step" | "var-step" | string;
-  size: number;
-  min_size?: number | null;
-  max_size?: number | null;
-  master: "jacobi" | "gauss-seidel" | string;
-}
-
-export interface CosimSystem {
-  source: string;
-  instances: CosimInstance[];
-  connections: CosimConnection[];
-  algorithm: CosimAlgorithm;
-  start_time: number;
-  end_time?: number | null;
-  /** The algebraic loops, each as its ports in order from an output (the last feeds the first). */
-  loops: PortRef[][];
-}
-
-export interface Cosim {
-  id: string | number;
-  name: string;
-  owner: string;
-  twin?: string | null;
-  prefix?: string | null;
-  stream?: string | null;
-  mode: CosimMode | string;
-  factor: number;
-  state: CosimState;
-  /** 0 to 1. */
-  progress: number;
-  /** The simulated time reached, in seconds. */
-  sim_time?: number | null;
-  message?: string | null;
-  created_at?: number | string | null;
-  started_at?: number | string | null;
-  ended_at?: number | string | null;
-  system: CosimSystem;
-  columns: string[];
-  rows?: number | null;
-}
+/** A co-simulation, its state as the app reads it (the API leaves it a string). */
+export type Cosim = Omit<Schemas["Cosim"], "state"> & { state: CosimState };
 
 /** The results column-major as uPlot takes them: `data[0]` the time, then one array per column
  * after "time" in `columns`. */
-export interface CosimResults {
-  columns: string[];
-  data: (number | null)[][];
-}
+export type CosimResults = Schemas["CosimResults"];
 
 export interface CosimRequest {
   file: File;
@@ -104,8 +56,8 @@ export function nameFromFile(filename: string): string {
 }
 
 export async function listCosims(signal?: AbortSignal): Promise<Cosim[]> {
-  const answer = await apiFetch<{ cosims: Cosim[] } | Cosim[]>(BASE, { signal });
-  return Array.isArray(answer) ? answer : answer.cosims;
+  const answer = await apiFetch<{ cosims: Cosim[] }>(BASE, { signal });
+  return answer.cosims;
 }
 
 export function getCosim(id: string, signal?: AbortSignal): Promise<Cosim> {

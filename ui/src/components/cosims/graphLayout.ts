@@ -4,7 +4,7 @@
 // spring its position, the spring gives the mass its force): a depth-first search marks the
 // connections that close a cycle, those go right to left below the boxes and the rest set the
 // layers. The connections of an algebraic loop, as the server found them, are marked.
-import type { CosimConnection, PortRef } from "../../api/cosims";
+import type { CosimConnection } from "../../api/cosims";
 
 export interface Port {
   instance: string;
@@ -15,7 +15,7 @@ export interface GraphInput {
   instances: string[];
   connections: CosimConnection[];
   /** Each loop's ports in order from an output; the last feeds the first. */
-  loops: PortRef[][];
+  loops: string[][];
 }
 
 export interface Box {
@@ -70,8 +70,7 @@ const SELF_RISE = 30;
 
 /** A port from the API: the longest instance name that prefixes it with a dot is the instance
  * ("msd1.m1.x1" of "msd1.m1" is x1), else it splits at the last dot. */
-export function splitPort(ref: PortRef, instances: readonly string[]): Port {
-  if (typeof ref !== "string") return ref;
+export function splitPort(ref: string, instances: readonly string[]): Port {
   let best = "";
   for (const name of instances) {
     if (name.length > best.length && ref.startsWith(`${name}.`)) best = name;
@@ -85,7 +84,7 @@ const portKey = (p: Port) => `${p.instance}\u0000${p.variable}`;
 const edgeKey = (from: string, to: string) => `${from}\u0000${to}`;
 
 /** The connections in an algebraic loop: an output followed by the input it feeds. */
-function loopConnections(loops: PortRef[][], instances: readonly string[]): Set<string> {
+function loopConnections(loops: string[][], instances: readonly string[]): Set<string> {
   const marked = new Set<string>();
   for (const loop of loops) {
     const ports = loop.map((p) => splitPort(p, instances));
