@@ -159,3 +159,23 @@ def test_a_fixed_step_ended_early_is_an_error_pointing_to_var_step(
     with pytest.raises(CosimRunError, match="use the var-step algorithm") as err:
         run(system, fmus)
     assert "instance 'clock' (ticks.fmu) ended the step from t = 1.4 s early" in str(err.value)
+
+
+def test_an_fmi3_fmu_rolls_back_with_the_others(fmus: dict[str, Path], fmu_files: FmuFiles) -> None:
+    """The FMI 3 Stair (counter = 1 + floor(t), terminating at 9 s) has its state saved
+    before every step and restored on every rejected one beside the FMI 2 pair (fmi3GetFMUState,
+    fmi3SetFMUState, fmi3FreeFMUState: a failing call fails the run); its counter matches
+    each row's time, and its termination ends the run at 9 s, that step recorded."""
+    system = varstep(msd_system("gauss-seidel", 0.5, **DAMPED), 1e-4, 1.0)
+    system = replace(
+        system,
+        instances=(*system.instances, Instance("stair", "stair3.fmu")),
+        log_variables={**system.log_variables, "stair": ("counter",)},
+    )
+    result, session = simulate(system, {**fmus, "stair3.fmu": fmu_files("stair3")}, 1e-4)
+    assert session.varstep is not None and session.varstep.rollback
+    assert session.varstep.rejected >= 1
+    times, counter = result.column("time"), result.column("stair.counter")
+    assert np.array_equal(counter, 1 + np.floor(times + 1e-9))
+    assert times[-1] == 9.0 and counter[-1] == 10.0
+    assert session.ended.startswith("instance 'stair' (stair3.fmu) asked to terminate at t = 9 s")

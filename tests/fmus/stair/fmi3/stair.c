@@ -4,8 +4,9 @@
  * terminateRequested true, lastSuccessfulTime 9, and earlyReturn true when the step was meant
  * to go further and early return is allowed. In the spirit of the Modelica Reference-FMUs' Stair (see ../README.md).
  *
- * Value references: 1 time (independent), 2 counter (output, Float64). The functions this FMU
- * does not support are in unsupported.c.
+ * Value references: 1 time (independent), 2 counter (output, Float64). It can save and restore
+ * its state (canGetAndSetFMUState). The functions this FMU does not support are in
+ * unsupported.c.
  */
 #include <math.h>
 #include <stdarg.h>
@@ -214,6 +215,47 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference valueR
     if (nValueReferences == 0) return fmi3OK;
     LOG_ERROR(c, "fmi3SetFloat64: this FMU has no variable that can be set.");
     return fmi3Error;
+}
+
+/* FMU state (canGetAndSetFMUState): the time and whether it ended, for a var-step master's
+ * rollback. */
+typedef struct {
+    Mode mode;
+    fmi3Float64 time;
+    fmi3Boolean terminated;
+} SavedState;
+
+fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
+    Instance *c = (Instance *)instance;
+    SavedState *saved;
+    if (c == NULL || FMUState == NULL) return fmi3Error;
+    saved = *FMUState != NULL ? (SavedState *)*FMUState : (SavedState *)malloc(sizeof *saved);
+    if (saved == NULL) {
+        LOG_ERROR(c, "fmi3GetFMUState: out of memory.");
+        return fmi3Error;
+    }
+    saved->mode = c->mode;
+    saved->time = c->time;
+    saved->terminated = c->terminated;
+    *FMUState = saved;
+    return fmi3OK;
+}
+
+fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState) {
+    Instance *c = (Instance *)instance;
+    const SavedState *saved = (const SavedState *)FMUState;
+    if (c == NULL || saved == NULL) return fmi3Error;
+    c->mode = saved->mode;
+    c->time = saved->time;
+    c->terminated = saved->terminated;
+    return fmi3OK;
+}
+
+fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
+    if (instance == NULL || FMUState == NULL) return fmi3Error;
+    free(*FMUState);
+    *FMUState = NULL;
+    return fmi3OK;
 }
 
 fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
