@@ -18,7 +18,7 @@ from typing import Any
 import click
 
 from twinlink.cli.client import Client
-from twinlink.cli.common import client_for, emit, show_value, table
+from twinlink.cli.common import client_for, emit, table
 from twinlink.cli.cosimrun import FileError
 from twinlink.cosim.model import CosimFormatError, System
 from twinlink.cosim.reading import read_system
@@ -193,9 +193,13 @@ def cosim_list(ctx: click.Context, as_json: bool) -> None:
     if as_json:
         emit(items, True)
         return
-    rows = [[str(c["id"]), c["name"], c["state"], show_value(c.get("progress")),
+    rows = [[str(c["id"]), c["name"], c["state"], _percent(c.get("progress")),
              c.get("twin") or "", c.get("mode") or ""] for c in items]  # fmt: skip
     table(["ID", "NAME", "STATE", "PROGRESS", "TWIN", "MODE"], rows)
+
+
+def _percent(progress: Any) -> str:
+    return f"{progress:.0%}" if isinstance(progress, int | float) else ""
 
 
 @click.command("rm")

@@ -211,7 +211,8 @@ def execute(
             raise
         if device is not None:
             sent = device.close()
-            say(f"sent {sent.accepted} samples in {sent.batches} batches")
+            batches = f"{sent.batches} batch" + ("" if sent.batches == 1 else "es")
+            say(f"sent {sent.accepted} samples in {batches}")
             if sent.rejected:
                 raise SendError(
                     f"{sent.rejected} samples were refused by the twin: {sent.first_rejection}"
