@@ -106,6 +106,7 @@ def _fill(path: str, world: World, slug: str) -> str:
         "command_id": "some-command",
         "name": "some-name",
         "run_id": "1",
+        "cosim_id": "1",
         "scope": "common",
         "kind": "models",
         "ref": "latest",

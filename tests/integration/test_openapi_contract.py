@@ -6,16 +6,19 @@ description (tests/integration/_contract.py), then that every operation answered
 
 from __future__ import annotations
 
+import io
 import os
 import shutil
 import subprocess
 import sys
 import time
+import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 import httpx
+import orjson
 import pytest
 
 from tests.conftest import ROOT, FmuFiles, Server
@@ -125,6 +128,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _library(walk)
     _deployments(walk)
     _runs(walk)
+    _cosims(walk, fmu_files)
     _workspaces(walk)
     _removals(walk)
     answered = {(m, p) for m, p, status in walk.contract.seen if 200 <= status < 300}
@@ -334,6 +338,30 @@ def _deployments(w: Walk) -> None:
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/start"))
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/stop"))
     w.ok(w.admin.post(f"/api/v1/deployments/{name}/terminate", json={"purge": True}))
+
+
+def _cosims(w: Walk, fmu_files: FmuFiles) -> None:
+    model = {
+        "fmus": {"{a}": "msd_mass.fmu", "{b}": "msd_spring.fmu"},
+        "connections": {"{a}.m.x1": ["{b}.s.x1"], "{a}.m.v1": ["{b}.s.v1"],
+                        "{b}.s.fk": ["{a}.m.fk"]},
+        "algorithm": {"type": "fixed-step", "size": 0.1}, "endTime": 1.0,
+    }  # fmt: skip
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w") as archive:  # the multi-model beside its FMUs
+        archive.writestr("mm.json", orjson.dumps(model))
+        for name in ("msd_mass", "msd_spring"):
+            archive.write(fmu_files(name), f"{name}.fmu")
+    made = w.ok(w.admin.post("/api/v1/cosims", params={"twin": w.slug}, content=out.getvalue(),
+                             headers={"Content-Type": "application/zip"}), 201)  # fmt: skip
+    url = f"/api/v1/cosims/{made['id']}"
+    w.ok(w.admin.get("/api/v1/cosims"))
+    w.ok(w.admin.post(f"{url}/start", json={"mode": "batch"}))
+    poll_until(lambda: w.ok(w.admin.get(url))["state"] != "running", "the cosim to end", 60)
+    w.ok(w.admin.post(f"{url}/stop"))
+    w.ok(w.admin.get(f"{url}/results.csv"))
+    w.ok(w.admin.get(f"{url}/results", params={"max_points": 10}))
+    w.ok(w.admin.delete(url), 204)
 
 
 def _runs(w: Walk) -> None:

@@ -54,7 +54,7 @@ Cosims = Annotated[CosimService, Depends(cosim_service)]
 # -- bodies and answers ----------------------------------------------------------------------
 
 
-class StartBody(BaseModel):
+class CosimStart(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     mode: str | None = Field(None, description="batch or realtime; the last one's if not given")
@@ -62,19 +62,19 @@ class StartBody(BaseModel):
                                  "fast")  # fmt: skip
 
 
-class Instance(BaseModel):
+class CosimInstance(BaseModel):
     name: str
     fmu: str
     kind: str = Field(description="co-simulation, model-exchange or python")
     isolated: bool
 
 
-class Connection(BaseModel):
+class CosimConnection(BaseModel):
     source: str
     target: str
 
 
-class Algorithm(BaseModel):
+class CosimAlgorithm(BaseModel):
     kind: str = Field(description="fixed-step or var-step")
     size: float
     min_size: float | None
@@ -82,11 +82,11 @@ class Algorithm(BaseModel):
     master: str = Field(description="jacobi or gauss-seidel")
 
 
-class SystemView(BaseModel):
+class CosimSystem(BaseModel):
     source: str = Field(description="the format it was read from: maestro, ssp or yaml")
-    instances: list[Instance]
-    connections: list[Connection]
-    algorithm: Algorithm
+    instances: list[CosimInstance]
+    connections: list[CosimConnection]
+    algorithm: CosimAlgorithm
     start_time: float
     end_time: float | None
     loops: list[list[str]] = Field(description="algebraic loops, each as its ports in order")
@@ -108,7 +108,7 @@ class Cosim(BaseModel):
     created_at: str
     started_at: str | None
     ended_at: str | None
-    system: SystemView
+    system: CosimSystem
     columns: list[str] = Field(description="the results' columns, time first")
     rows: int
 
@@ -117,7 +117,7 @@ class CosimList(BaseModel):
     cosims: list[Cosim]
 
 
-class Results(BaseModel):
+class CosimResults(BaseModel):
     columns: list[str]
     data: list[list[float | None]] = Field(description="column by column (uPlot's shape)")
 
@@ -232,7 +232,7 @@ async def delete_cosim(cosim_id: RowId, caller: Caller, cosims: Cosims) -> Respo
     responses=CHANGING,
 )
 async def start_cosim(
-    cosim_id: RowId, caller: Caller, cosims: Cosims, body: StartBody | None = None
+    cosim_id: RowId, caller: Caller, cosims: Cosims, body: CosimStart | None = None
 ) -> JSONAnswer:
     mode, factor = (body.mode, body.factor) if body is not None else (None, None)
     return await _one(cosims, await cosims.start(caller, cosim_id, mode, factor))
@@ -268,7 +268,7 @@ async def results_csv(cosim_id: RowId, caller: Caller, cosims: Cosims) -> FileRe
     summary="The latest run's results for a chart: its columns, at most `max_points` rows "
     "picked evenly, column by column",
     response_class=JSONAnswer,
-    response_model=Results,
+    response_model=CosimResults,
 )
 async def results(
     cosim_id: RowId,

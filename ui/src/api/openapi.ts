@@ -1363,6 +1363,110 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/cosims": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The caller's co-simulations (every one for admins), newest first */
+        get: operations["list_cosims_api_v1_cosims_get"];
+        put?: never;
+        /** Create a co-simulation from a file or folder (the body); its FMUs resolve inside the folder, in the library (lib:...) or among the twin's uploaded FMUs */
+        post: operations["create_cosim_api_v1_cosims_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/cosims/{cosim_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A co-simulation: its system, state and progress */
+        get: operations["get_cosim_api_v1_cosims__cosim_id__get"];
+        put?: never;
+        post?: never;
+        /** Delete a co-simulation with its files and results (409 while it runs) */
+        delete: operations["delete_cosim_api_v1_cosims__cosim_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/cosims/{cosim_id}/start": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Run it (again: new results); the body may change its mode and factor */
+        post: operations["start_cosim_api_v1_cosims__cosim_id__start_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/cosims/{cosim_id}/stop": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Stop its run after the current step (the rows so far kept) */
+        post: operations["stop_cosim_api_v1_cosims__cosim_id__stop_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/cosims/{cosim_id}/results.csv": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The latest run's results as Maestro's outputs.csv (as far as written) */
+        get: operations["results_csv_api_v1_cosims__cosim_id__results_csv_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/cosims/{cosim_id}/results": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The latest run's results for a chart: its columns, at most `max_points` rows picked evenly, column by column */
+        get: operations["results_api_v1_cosims__cosim_id__results_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/workspaces/me": {
         parameters: {
             query?: never;
@@ -1954,6 +2058,158 @@ export interface components {
         Connectors: {
             /** Connectors */
             connectors: components["schemas"]["ConnectorView"][];
+        };
+        /** Cosim */
+        Cosim: {
+            /** Id */
+            id: number;
+            /** Name */
+            name: string;
+            /** Owner */
+            owner: string | null;
+            /**
+             * Twin
+             * @description the twin whose history gets the results
+             */
+            twin: string | null;
+            /**
+             * Prefix
+             * @description of the signals written into the twin's history
+             */
+            prefix: string;
+            /**
+             * Stream
+             * @description the twin's stream they go to
+             */
+            stream: string;
+            /**
+             * Mode
+             * @description batch or realtime
+             */
+            mode: string;
+            /** Factor */
+            factor: number;
+            /**
+             * State
+             * @description created, running, finished, stopped or failed
+             */
+            state: string;
+            /**
+             * Progress
+             * @description 0 to 1
+             */
+            progress: number;
+            /** Sim Time */
+            sim_time: number | null;
+            /**
+             * Message
+             * @description why it failed or ended early
+             */
+            message: string;
+            /** Created At */
+            created_at: string;
+            /** Started At */
+            started_at: string | null;
+            /** Ended At */
+            ended_at: string | null;
+            system: components["schemas"]["CosimSystem"];
+            /**
+             * Columns
+             * @description the results' columns, time first
+             */
+            columns: string[];
+            /** Rows */
+            rows: number;
+        };
+        /** CosimAlgorithm */
+        CosimAlgorithm: {
+            /**
+             * Kind
+             * @description fixed-step or var-step
+             */
+            kind: string;
+            /** Size */
+            size: number;
+            /** Min Size */
+            min_size: number | null;
+            /** Max Size */
+            max_size: number | null;
+            /**
+             * Master
+             * @description jacobi or gauss-seidel
+             */
+            master: string;
+        };
+        /** CosimConnection */
+        CosimConnection: {
+            /** Source */
+            source: string;
+            /** Target */
+            target: string;
+        };
+        /** CosimInstance */
+        CosimInstance: {
+            /** Name */
+            name: string;
+            /** Fmu */
+            fmu: string;
+            /**
+             * Kind
+             * @description co-simulation, model-exchange or python
+             */
+            kind: string;
+            /** Isolated */
+            isolated: boolean;
+        };
+        /** CosimList */
+        CosimList: {
+            /** Cosims */
+            cosims: components["schemas"]["Cosim"][];
+        };
+        /** CosimResults */
+        CosimResults: {
+            /** Columns */
+            columns: string[];
+            /**
+             * Data
+             * @description column by column (uPlot's shape)
+             */
+            data: (number | null)[][];
+        };
+        /** CosimStart */
+        CosimStart: {
+            /**
+             * Mode
+             * @description batch or realtime; the last one's if not given
+             */
+            mode?: string | null;
+            /**
+             * Factor
+             * @description realtime: 1.0 = wall clock, 2.0 = twice as fast
+             */
+            factor?: number | null;
+        };
+        /** CosimSystem */
+        CosimSystem: {
+            /**
+             * Source
+             * @description the format it was read from: maestro, ssp or yaml
+             */
+            source: string;
+            /** Instances */
+            instances: components["schemas"]["CosimInstance"][];
+            /** Connections */
+            connections: components["schemas"]["CosimConnection"][];
+            algorithm: components["schemas"]["CosimAlgorithm"];
+            /** Start Time */
+            start_time: number;
+            /** End Time */
+            end_time: number | null;
+            /**
+             * Loops
+             * @description algebraic loops, each as its ports in order
+             */
+            loops: string[][];
         };
         /** CreateBody */
         CreateBody: {
@@ -12097,6 +12353,583 @@ export interface operations {
             };
             /** @description The token is valid, but its user may not do this */
             403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    list_cosims_api_v1_cosims_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CosimList"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    create_cosim_api_v1_cosims_post: {
+        parameters: {
+            query?: {
+                /** @description its name */
+                name?: string | null;
+                /** @description results into this twin's history (editors) */
+                twin?: string | null;
+                /** @description batch or realtime */
+                mode?: string;
+                /** @description realtime: 1.0 = wall clock */
+                factor?: number;
+                /** @description of the signals */
+                prefix?: string;
+                /** @description the twin's stream (default cosim) */
+                stream?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** @description The co-simulation file: a Maestro multi-model (JSON), twinlink's YAML form, an SSP archive (a zip with SystemStructure.ssd at its root), or a folder as a zip, tar or tgz holding one .json/.yaml document at its top level beside its FMUs. */
+        requestBody: {
+            content: {
+                "application/json": string;
+                "application/yaml": string;
+                "application/x-yaml": string;
+                "text/yaml": string;
+                "application/zip": string;
+                "application/x-zip-compressed": string;
+                "application/x-tar": string;
+                "application/gzip": string;
+                "application/x-gzip": string;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Cosim"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The change conflicts with what is stored (a name taken, a thing in use) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The body is larger than the server takes */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    get_cosim_api_v1_cosims__cosim_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                cosim_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Cosim"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    delete_cosim_api_v1_cosims__cosim_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                cosim_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The change conflicts with what is stored (a name taken, a thing in use) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    start_cosim_api_v1_cosims__cosim_id__start_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                cosim_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["CosimStart"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Cosim"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The change conflicts with what is stored (a name taken, a thing in use) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    stop_cosim_api_v1_cosims__cosim_id__stop_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                cosim_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Cosim"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The change conflicts with what is stored (a name taken, a thing in use) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    results_csv_api_v1_cosims__cosim_id__results_csv_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                cosim_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/csv": string;
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    results_api_v1_cosims__cosim_id__results_get: {
+        parameters: {
+            query?: {
+                max_points?: number;
+            };
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                cosim_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["CosimResults"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
                 headers: {
                     [name: string]: unknown;
                 };
