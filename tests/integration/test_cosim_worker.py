@@ -15,6 +15,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -24,7 +25,9 @@ import pytest
 
 from tests.conftest import FmuFiles
 from twinlink.cosim.jobs import CosimJob, JobSpec, worker_environment
+from twinlink.cosim.model import Algorithm, System
 from twinlink.cosim.runner import run
+from twinlink.cosim.worker import Rows
 from twinlink.cosim.yamlform import read_yaml
 
 pytestmark = pytest.mark.integration
@@ -378,6 +381,39 @@ async def test_a_worker_that_cannot_start_is_a_failed_run(
     assert end == "failed" and message.startswith("could not start: ")
 
 
+class FakeOutput:
+    def __init__(self) -> None:
+        self.sent: list[dict[str, Any]] = []
+
+    def send(self, message: dict[str, Any]) -> None:  # as Output writes it: at once
+        self.sent.append(orjson.loads(orjson.dumps(message, option=orjson.OPT_SERIALIZE_NUMPY)))
+
+
+@pytest.mark.parametrize("mode", ["batch", "realtime"])
+def test_rows_go_out_in_batches_of_wall_time_and_progress_as_it_moves(mode: str) -> None:
+    # An open-ended system (no end time: no fraction of a span to tell), a row every 10 ms
+    # of a fake clock for 3 s, batches of 50 ms.
+    system = System((), (), {}, {}, Algorithm("fixed-step", 0.01), end_time=None)
+    session = SimpleNamespace(system=system, columns=("time", "x"))
+    spec = JobSpec(Path("d.yaml"), "yaml", {}, Path("out.csv"), mode=mode, batch_ms=50)  # type: ignore[arg-type]
+    now = [0]
+    out, text = FakeOutput(), io.StringIO()
+    rows = Rows(spec, session, out, text, clock=lambda: now[0])  # type: ignore[arg-type]
+    for k in range(301):
+        rows.add(np.array([k * 0.01, float(k)]))
+        now[0] += 10_000_000
+    rows.flush(last=True)
+    batches = [m["rows"] for m in out.sent if "rows" in m]
+    assert [len(b) for b in batches] == [6] * 50 + [1]  # 50 ms after each batch's first row
+    assert np.array_equal(np.vstack(batches)[:, 1], np.arange(301))
+    assert text.getvalue().splitlines()[:3] == ["time,x", "0.0,0.0", "0.01,1.0"]
+    told = [m["time"] for m in out.sent if "progress" in m]
+    if mode == "batch":  # no span: the first and the last only
+        assert told == [0.05, 3.0]
+    else:  # real time: once a second of wall time too
+        assert told == [0.05, 1.07, 2.09, 3.0]  # the first batch ending 1 s after the last
+
+
 # A server: starts the worker with its output to a file (no pipe to break), gives it its
 # job, says the worker's pid, and waits to be killed.
 SERVER = """
@@ -395,7 +431,7 @@ time.sleep(600)
 
 def test_a_run_whose_server_died_stops(tmp_path: Path, fmus: dict[str, Path]) -> None:
     doc = document(tmp_path, end=1000.0)
-    spec = spec_of(doc, fmus, mode="realtime", stream=False)  # writes nothing for long
+    spec = spec_of(doc, fmus, mode="realtime", stream=False)
     (tmp_path / "job.json").write_bytes(spec.to_json())
     out = tmp_path / "lines"
     server = subprocess.Popen(

@@ -114,7 +114,7 @@ class _Ended:
     message: str = ""
     stopping: bool = False  # stop() was called
     killed: bool = False  # ...and the worker had to be killed
-    time: float | None = None  # the last simulated time reported
+    time: float | None = None  # the last simulated time reported (progress, rows)
     in_process: list[str] | None = None  # the instances the worker runs itself, as it said
     stderr: deque[str] = field(default_factory=lambda: deque(maxlen=STDERR_LINES))
 
@@ -228,7 +228,10 @@ class CosimJob:
 
     async def _took(self, message: dict[str, Any]) -> None:
         if "rows" in message:
-            await _call(self.on_rows, np.array(message["rows"], dtype=np.float64))
+            rows = np.array(message["rows"], dtype=np.float64)
+            if len(rows):
+                self._state.time = float(rows[-1, 0])
+            await _call(self.on_rows, rows)
         elif "progress" in message:
             self._state.time = float(message["time"])
             await _call(self.on_progress, float(message["progress"]), self._state.time)

@@ -4,10 +4,10 @@ It reads one job (jobs.JobSpec, JSON) on stdin, runs the co-simulation in a Sess
 as fast as it goes; realtime: paced to the wall clock, pacing.py), writes the CSV as it
 goes, and answers with JSON lines on stdout:
 
-    {"in_process": ["instance 'm1' (msd1.fmu)", ...]}  (the FMUs this process runs itself)
+    {"in_process": ["instance 'm1' (msd1.fmu)", ...]}   the FMUs this process runs itself
     {"columns": ["time", "{msd1}.m1.x1", ...]}
-    {"progress": 0.42, "time": 4.2}                  (at most about 100, and one at the end)
-    {"rows": [[t, v1, ...], ...]}                    (with "stream": every batch_ms or 1000 rows)
+    {"progress": 0.42, "time": 4.2}      about 100 a run (real time: 1/s too), and at the end
+    {"rows": [[t, v1, ...], ...]}        with "stream": every batch_ms or 1000 rows
     {"end": "finished" | "stopped" | "failed", "message": "..."}
 
 SIGTERM stops the run after the step it is in (its rows so far kept: "stopped"). Rows are
@@ -53,6 +53,7 @@ log = logging.getLogger("twinlink.cosim.worker")
 
 MAX_BATCH_ROWS = 1000
 PROGRESS_EVERY = 0.01  # of the span: at most about 100 progress lines a run
+PROGRESS_WALL_NS = 1_000_000_000  # in real time, also at least once a second
 _PR_SET_PDEATHSIG = 1
 
 
@@ -79,7 +80,8 @@ class Output:
 class Rows:
     """Rows gathered into a block, then written to the CSV and sent as one batch: at most
     `batch_ns` of wall time or MAX_BATCH_ROWS after the first of them. Progress is told at
-    each batch, when it moved by PROGRESS_EVERY of the span."""
+    a batch when it moved by PROGRESS_EVERY of the span, and in real time also when a
+    second has passed (a long or open-ended run's simulated time shows as it goes)."""
 
     def __init__(
         self,
@@ -104,7 +106,9 @@ class Rows:
         self.start = system.start_time
         end = system.end_time
         self.span = end - system.start_time if end is not None else None
-        self.told = -1.0  # the progress last told
+        self.told = -1.0  # the progress last told...
+        self.told_ns = 0  # ...and when
+        self.every_ns = PROGRESS_WALL_NS if spec.mode == "realtime" else None
         self.time = system.start_time
 
     def add(self, row: Row) -> None:
@@ -125,9 +129,14 @@ class Rows:
                 self.out.send({"rows": rows})
             self.count = 0
         done = (self.time - self.start) / self.span if self.span else 0.0
-        if last or done >= self.told + PROGRESS_EVERY:
+        now = self.clock()
+        if (
+            last
+            or done >= self.told + PROGRESS_EVERY
+            or (self.every_ns is not None and now - self.told_ns >= self.every_ns)
+        ):
             self.out.send({"progress": done, "time": self.time})
-            self.told = done
+            self.told, self.told_ns = done, now
 
 
 def read_system(spec: JobSpec) -> System:
@@ -193,9 +202,9 @@ def _at_end(session: Session) -> bool:
 
 
 def _stop_with_parent() -> None:
-    """Be sent SIGTERM (a stop) when the process that started this one dies (Linux): a
-    server killed outright leaves no run behind, even one that writes nothing for a broken
-    pipe to end it (a real-time run with no end time and no rows sent)."""
+    """Be sent SIGTERM (a stop) when the thread that started this process ends (Linux): a
+    server killed outright leaves no run behind, without waiting for the run's next write
+    to its broken pipe (a long batch run without rows sent writes once per 1 % of it)."""
     if sys.platform.startswith("linux"):
         with contextlib.suppress(OSError, AttributeError):
             ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
