@@ -8,21 +8,26 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import os
 import shutil
 import signal
 import subprocess
 import sys
+import threading
 import time
 from dataclasses import dataclass
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
+import numpy as np
 import pytest
 
 from tests.conftest import EXAMPLES, Server
 from tests.integration._device import make_twin
 from tests.integration._util import poll_until
+from twinlink.cli.cosimsend import DeviceSender
 
 pytestmark = pytest.mark.integration
 
@@ -318,3 +323,54 @@ def test_create_refuses_what_is_not_a_cosimulation(example: Path, server: Server
     refused = twinlink("cosim", "create", "nofmus.json", cwd=example, **_admin(server))
     assert refused.code == 1 and "(422)" in refused.err and "a.fmu" in refused.err, refused.err
     assert "Traceback" not in refused.err + unread.err
+
+
+class _Ingest(BaseHTTPRequestHandler):
+    """HTTP ingest as a flaky server answers it: the first batch 503, then acks."""
+
+    bodies: ClassVar[list[dict[str, Any]]] = []
+
+    def do_POST(self) -> None:
+        body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
+        type(self).bodies.append(body)
+        if len(self.bodies) == 1:
+            self.send_response(503)
+            answer = {"detail": "the store is busy; send it again"}
+        else:
+            self.send_response(200)
+            answer = {"type": "ack", "seq": body["seq"], "accepted": len(body["samples"]),
+                      "rejected": [], "rejected_count": 0}  # fmt: skip
+        data = json.dumps(answer).encode()
+        self.send_header("Content-Type", "application/json")
+        self.send_header("Content-Length", str(len(data)))
+        self.end_headers()
+        self.wfile.write(data)
+
+    def log_message(self, *args: Any) -> None:
+        pass
+
+
+def test_a_batch_is_sent_again_with_its_seq_and_nan_is_left_out() -> None:
+    """A 503 is transient: the same batch (same seq) again, so the platform stores it once.
+    JSON has no NaN: a value that is not finite is left out of its sample, and a sample with
+    none left is not sent."""
+    _Ingest.bodies = []
+    httpd = ThreadingHTTPServer(("127.0.0.1", 0), _Ingest)
+    serving = threading.Thread(target=httpd.serve_forever, daemon=True)
+    serving.start()
+    try:
+        url = f"http://127.0.0.1:{httpd.server_address[1]}"
+        sender = DeviceSender(url, "tld_x", ["a.x", "b.y"], t0=1.0, start_ns=5_000_000_000)
+        for row in ([1.0, 0.5, 2.0], [1.5, math.nan, 3.0], [2.0, math.inf, math.nan]):
+            sender.add(np.array(row))
+        sent = sender.close()
+    finally:
+        httpd.shutdown()
+        httpd.server_close()
+    first, second = _Ingest.bodies
+    assert first == second and first["stream"] == "cosim" and first["time_unit"] == "ns"
+    assert first["samples"] == [
+        {"time": 5_000_000_000, "values": {"a.x": 0.5, "b.y": 2.0}},
+        {"time": 5_500_000_000, "values": {"b.y": 3.0}},
+    ]
+    assert (sent.accepted, sent.batches, sent.rejected) == (2, 1, 0)

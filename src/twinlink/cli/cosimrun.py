@@ -36,6 +36,7 @@ from twinlink.domain.errors import InvalidInputError
 Row = npt.NDArray[np.float64]
 Say = Callable[[str], None]
 PROGRESS_MARKS = 10  # progress lines per run (each 10 %), so a run's log stays short
+FLUSH_S = 0.5  # a paced run's CSV is flushed this often
 
 
 class FileError(click.ClickException):
@@ -137,6 +138,8 @@ class Rows:
         sender: DeviceSender | None,
         system: System,
         say: Say,
+        *,
+        live: bool = False,
     ) -> None:
         self._writer = csv.writer(out, lineterminator="\n")
         self._writer.writerow(columns)
@@ -146,6 +149,8 @@ class Rows:
         self._span = None if system.end_time is None else system.end_time - system.start_time
         self._say = say
         self._mark = 1
+        self._live = live
+        self._flushed = time.monotonic()
         self.count = 0
         self.last_time = system.start_time
 
@@ -156,6 +161,9 @@ class Rows:
             self._sender.add(row)
         self.count += 1
         self.last_time = values[0]
+        if self._live and time.monotonic() - self._flushed >= FLUSH_S:
+            self._out.flush()  # a paced run's CSV grows as it runs (tail -f follows it)
+            self._flushed = time.monotonic()
         if self._span:
             done = (values[0] - self._start) / self._span
             if done * PROGRESS_MARKS >= self._mark and self._mark < PROGRESS_MARKS:
@@ -198,7 +206,7 @@ def execute(
     with Session(system, loaded.fmu_paths) as session:
         device = sender(session.columns)
         try:
-            rows = Rows(session.columns, out, device, system, say)
+            rows = Rows(session.columns, out, device, system, say, live=realtime is not None)
             jitter = ""
             if realtime is None:
                 ended = _batch(session, rows, stop)
