@@ -9,13 +9,14 @@ again. A step whose deadline has passed when its turn comes is started at once (
 and counted as late; its lateness is kept with everyone else's, so a run that fell behind
 says so in its p99 and max instead of hiding it.
 
-How a step waits for its deadline, measured on a shared 2-core machine at 1 kHz:
-`time.sleep` alone wakes 50-250 us late at the median (the kernel's timer slack is 50 us)
-with a p99 of 120-500 us; sleeping until SPIN_NS before the deadline, with the thread's
-timer slack lowered to 1 us, then spinning on the clock, starts steps within 1 us at the
-median and the p99, at about 20 % of one core at 1 kHz (the spin is at most SPIN_NS per
-step, so less at lower rates). What is left is the scheduler: a preempted thread wakes
-milliseconds late whatever it does, which shows in the p99.9 and max, not the p99.
+How a step waits for its deadline, measured on the project's shared 2-core VM at 1 kHz:
+`time.sleep` alone woke 80-100 us late at the median (the kernel's timer slack is 50 us)
+and 140-250 us at the p99; sleeping until SPIN_NS before the deadline, with the thread's
+timer slack lowered to 1 us, then spinning on the clock, started steps within 1 us at the
+median and the p99 on a quiet machine, for about 15-20 % of one core at 1 kHz (the spin is
+at most SPIN_NS a step, so less at lower rates). What is left is the scheduler: a thread
+that has no CPU at its deadline starts late whatever it does; on a busy machine that is
+the p99 (milliseconds), which only real-time priority (chrt -f) removes.
 """
 
 from __future__ import annotations
