@@ -16,6 +16,7 @@ import subprocess
 import sys
 import threading
 import time
+import zipfile
 from dataclasses import dataclass
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -24,7 +25,7 @@ from typing import Any, ClassVar
 import numpy as np
 import pytest
 
-from tests.conftest import EXAMPLES, Server
+from tests.conftest import EXAMPLES, ROOT, Server
 from tests.integration._device import make_twin
 from tests.integration._util import poll_until
 from twinlink.cli.cosimsend import DeviceSender
@@ -102,7 +103,7 @@ def test_run_writes_maestros_csv_and_says_its_progress(example: Path) -> None:
 
 def test_check_describes_the_system(example: Path) -> None:
     out = twinlink("cosim", "check", "msd.json", cwd=example).ok().out.splitlines()
-    assert out[0] == "msd.json: a Maestro multi-model co-simulation"
+    assert out[0] == "msd.json: a co-simulation (Maestro multi-model)"
     assert "  msd1.msd1i  MassSpringDamper1.fmu  (co-simulation, FMI 2.0)" in out
     assert "  msd2.msd2i.fk -> msd1.msd1i.fk" in out
     assert "algorithm: fixed-step 0.01 s, jacobi, from 0 s to 10 s" in out
@@ -374,3 +375,20 @@ def test_a_batch_is_sent_again_with_its_seq_and_nan_is_left_out() -> None:
         {"time": 5_500_000_000, "values": {"b.y": 3.0}},
     ]
     assert (sent.accepted, sent.batches, sent.rejected) == (2, 1, 0)
+
+
+def test_an_ssp_archive_runs_recording_every_output(example: Path) -> None:
+    """SSP names no variables to record and has no step: every output is recorded, and
+    --step gives the step."""
+    archive = example / "msd.ssp"
+    ssp = ROOT / "tests" / "cosim_files" / "msd_ssp"
+    with zipfile.ZipFile(archive, "w") as z:
+        z.write(ssp / "SystemStructure.ssd", "SystemStructure.ssd")
+        z.write(ssp / "resources" / "msd2.ssv", "resources/msd2.ssv")
+        for fmu in ("MassSpringDamper1.fmu", "MassSpringDamper2.fmu"):
+            z.write(example / fmu, f"resources/{fmu}")
+    checked = twinlink("cosim", "check", "msd.ssp", cwd=example).ok().out.splitlines()
+    assert checked[0] == "msd.ssp: a co-simulation (SSP archive)"
+    assert f"recorded (5, every output: the file names none): {', '.join(SIGNALS)}" in checked
+    rows = _rows(twinlink("cosim", "run", "msd.ssp", "--step", "0.01", cwd=example).ok().out)
+    assert rows[0] == ["time", *SIGNALS] and len(rows) == 1 + 1001

@@ -19,7 +19,7 @@ def describe(loaded: Loaded) -> tuple[list[str], list[list[Port]]]:
     """The lines to print, and the algebraic loops (an FMU that cannot be read counts as
     feeding every input through to every output, so no loop is missed)."""
     system = loaded.system
-    lines = [f"{loaded.path}: a {_FORMATS.get(system.source, system.source)} co-simulation"]
+    lines = [f"{loaded.path}: a co-simulation ({_FORMATS.get(system.source, system.source)})"]
     lines.append(f"instances ({len(system.instances)}):")
     feedthrough: dict[str, Mapping[str, set[str]] | None] = {}
     for instance in system.instances:
@@ -41,7 +41,8 @@ def describe(loaded: Loaded) -> tuple[list[str], list[list[Port]]]:
         lines.append(f"parameters ({len(system.parameters)}):")
         lines += [f"  {port} = {value!r}" for port, value in system.parameters.items()]
     recorded = [f"{i}.{v}" for i, names in system.log_variables.items() for v in names]
-    lines.append(f"recorded ({len(recorded)}): {', '.join(recorded) or 'none'}")
+    every = ", every output: the file names none" if loaded.every_output else ""
+    lines.append(f"recorded ({len(recorded)}{every}): {', '.join(recorded) or 'none'}")
     lines.append(f"algorithm: {_algorithm(loaded)}")
     lines += [f"  {note}" for note in unapplied(loaded.path)]
     loops = algebraic_loops(system, feedthrough.get)
@@ -53,7 +54,7 @@ def describe(loaded: Loaded) -> tuple[list[str], list[list[Port]]]:
     return lines, loops
 
 
-_FORMATS = {"maestro": "Maestro multi-model", "ssp": "SSP", "yaml": "YAML"}
+_FORMATS = {"maestro": "Maestro multi-model", "ssp": "SSP archive", "yaml": "YAML form"}
 
 
 def _algorithm(loaded: Loaded) -> str:
