@@ -82,13 +82,12 @@ def test_var_step_converges_with_fewer_steps_than_a_fixed_step(
 def test_rejected_steps_are_rolled_back(fmus: dict[str, Path]) -> None:
     """Steps too long for the tolerance are redone from the saved FMU states: were they not
     restored, each rejected step's motion would be added twice and the result would drift."""
-    system = varstep(msd_system("gauss-seidel", 0.5, **DAMPED), 1e-4, 1.0)
+    system = varstep(msd_system("gauss-seidel", 0.05, **DAMPED), 1e-4, 1.0)
     result, session = simulate(system, fmus, 1e-4)
     assert session.varstep is not None and session.varstep.rollback
     assert session.varstep.rejected >= 1 and session.warnings == []
-    assert error(result, **DAMPED) < 0.01
-    steps = np.diff(result.column("time"))
-    assert steps.min() < 0.1 and steps.max() > 0.1  # it shortened, then lengthened
+    assert error(result, **DAMPED) < 0.005
+    assert np.diff(result.column("time")).max() > 0.1  # longer as the motion died out
 
 
 def without_rollback(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
@@ -166,7 +165,7 @@ def test_an_fmi3_fmu_rolls_back_with_the_others(fmus: dict[str, Path], fmu_files
     before every step and restored on every rejected one beside the FMI 2 pair (fmi3GetFMUState,
     fmi3SetFMUState, fmi3FreeFMUState: a failing call fails the run); its counter matches
     each row's time, and its termination ends the run at 9 s, that step recorded."""
-    system = varstep(msd_system("gauss-seidel", 0.5, **DAMPED), 1e-4, 1.0)
+    system = varstep(msd_system("gauss-seidel", 0.05, **DAMPED), 1e-4, 1.0)
     system = replace(
         system,
         instances=(*system.instances, Instance("stair", "stair3.fmu")),

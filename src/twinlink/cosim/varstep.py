@@ -4,15 +4,18 @@ change, between the algorithm's `min_size` and `max_size`, starting at its `size
 Between communication points every input is held at the value it had at the step's start, so
 the coupling's error over a step grows with how far the connected outputs move from a
 straight line through it. The error estimate is that distance: after a step, each connected
-output is compared with its linear extrapolation from the two communication points before
-(on the first step, with one point only, with that point held constant: cautious, the
-difference is of order h there, not h^2), weighted by a tolerance relative to the largest
-magnitude that output has had so far (at least a thousandth of the largest of all of them).
-Outputs with direct feedthrough are left out when others exist (Session picks the outputs
-to watch): read after a step they still reflect inputs held from its start, a lag that
-changes with the step size, so an estimate following them rejects steps no size fixes.
+output is compared with its linear extrapolation from the two communication points before,
+weighted by a tolerance relative to the largest magnitude that output has had so far (at
+least a thousandth of the largest of all of them):
 
     err = max_i |y_i(t + h) - extrapolated_i| / (tolerance * scale_i)
+
+The first step has nothing to extrapolate from: it is taken at `size` (Maestro's
+`initsize`) as it is, and so is the step after one kept over tolerance (a jump:
+extrapolating across it would predict it again). Outputs with direct feedthrough are left
+out when others exist (Session picks the outputs to watch): read after a step they still
+reflect inputs held from its start, a lag that changes with the step size, so an estimate
+following them rejects steps no size fixes.
 
 A step with err <= 1 is accepted and the next one grows by 0.9 err^(-1/2) (at most twice,
 up to max_size: the extrapolation's error is of order h^2). A step with err > 1 is rejected
@@ -147,18 +150,22 @@ class VarStep:
         assert last is not None  # start() ran
         if not len(y):
             return 0.0, y  # no connected output: the FMUs' own solvers set the accuracy
-        if self._before is None:  # the first step: held constant (of order h, cautious)
-            predicted = last
-        else:
-            predicted = last + (last - self._before) * (h / self._h_before)
+        if self._before is None:
+            return -1.0, y  # nothing to extrapolate from yet: accepted as it is, h kept
+        predicted = last + (last - self._before) * (h / self._h_before)
         scale = np.maximum(np.maximum(self._scale, np.abs(y)), 1e-3 * float(self._scale.max()))
         scale = np.maximum(scale, 1e-300)
         return float(np.max(np.abs(y - predicted) / (self.tolerance * scale))), y
 
     def _accept(self, y: npt.NDArray[np.float64], h: float, err: float) -> None:
-        self._before, self._last, self._h_before = self._last, y, h
+        # after a step kept over tolerance (a jump), extrapolating across it would predict
+        # the jump again: the extrapolation starts afresh from its end
+        self._before = self._last if err <= 1.0 else None
+        self._last, self._h_before = y, h
         if len(y):
             np.maximum(self._scale, np.abs(y), out=self._scale)
+        if err < 0.0:  # not estimated
+            return
         grow = _GROW if err == 0.0 else min(_GROW, max(_SHRINK, _SAFETY / err**0.5))
         if h >= self.h or grow < 1.0:  # a step cut to reach the end does not shrink h
             self.h = min(self.max_size, max(self.min_size, h * grow))
