@@ -271,27 +271,56 @@ def test_bad_uploads_are_refused_naming_the_file_the_key_or_the_limit(
         assert_problem(admin.get(f"{COSIMS}/999999"), 404)
 
 
-def test_a_server_stop_stops_its_runs_and_their_processes(
+def _workers(server: Server) -> list[psutil.Process]:
+    """The co-simulation workers the server runs (its children, in sessions of their own)."""
+    children = psutil.Process(server.process.pid).children(recursive=True)
+    return [p for p in children if "twinlink.cosim.worker" in " ".join(p.cmdline())]
+
+
+def _gone(processes: list[psutil.Process]) -> bool:
+    return not [p for p in processes if p.is_running() and p.status() != "zombie"]
+
+
+def _start_endless(admin: httpx.Client, fmu_files: FmuFiles) -> int:
+    r = admin.post(COSIMS, params={"mode": "realtime"},
+                   content=zip_of(folder(fmu_files, multimodel(end=36000.0))),
+                   headers=ZIP)  # fmt: skip
+    cosim_id: int = r.json()["id"]
+    admin.post(f"{COSIMS}/{cosim_id}/start")
+    poll_until(lambda: (admin.get(f"{COSIMS}/{cosim_id}").json()["sim_time"] or 0) > 0,
+               "the run to make progress")  # fmt: skip
+    return cosim_id
+
+
+def test_a_server_stop_stops_its_runs_and_a_crash_fails_them(
     tmp_path_factory: pytest.TempPathFactory, fmu_files: FmuFiles
 ) -> None:
     srv = start_server(tmp_path_factory.mktemp("data"))
     try:
         with srv.admin as admin:
-            r = admin.post(COSIMS, params={"mode": "realtime"},
-                           content=zip_of(folder(fmu_files, multimodel(end=3600.0))),
-                           headers=ZIP)  # fmt: skip
-            cosim_id = r.json()["id"]
-            admin.post(f"{COSIMS}/{cosim_id}/start")
-            poll_until(lambda: (admin.get(f"{COSIMS}/{cosim_id}").json()["sim_time"] or 0) > 0,
-                       "the run to make progress")  # fmt: skip
-        workers = [p for p in psutil.Process(srv.process.pid).children(recursive=True)
-                   if "twinlink.cosim.worker" in " ".join(p.cmdline())]  # fmt: skip
+            cosim_id = _start_endless(admin, fmu_files)
+        workers = _workers(srv)
         assert workers
         stop_server(srv)
-        assert not [p for p in workers if p.is_running() and p.status() != "zombie"]
+        assert _gone(workers)
         srv = restart_server(srv)
         with srv.admin as admin:
             view = admin.get(f"{COSIMS}/{cosim_id}").json()
             assert view["state"] == "stopped" and view["rows"] > 0, view
+            # killed: the worker outlives it (a session of its own) until the next start
+            crashed_id = _start_endless(admin, fmu_files)
+        workers = _workers(srv)
+        assert workers
+        srv.process.kill()  # SIGKILL: the server dies, its worker (own session) not
+        stop_server(srv)
+        assert not _gone(workers)
+        srv = restart_server(srv)
+        poll_until(lambda: _gone(workers), "the leftover worker to be killed")
+        with srv.admin as admin:
+            view = admin.get(f"{COSIMS}/{crashed_id}").json()
+            assert view["state"] == "failed" and "server stopped" in view["message"], view
+            restarted = admin.post(f"{COSIMS}/{crashed_id}/start", json={"mode": "batch"})
+            assert restarted.status_code == 200, restarted.text
+            admin.post(f"{COSIMS}/{crashed_id}/stop")
     finally:
         stop_server(srv)

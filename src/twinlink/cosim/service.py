@@ -43,7 +43,7 @@ from . import bundle as bundles
 from . import params
 from .jobs import CosimJob, End, Format, JobSpec, Mode, Rows
 from .outputs import HistoryOutput
-from .recovery import gone_nodes
+from .recovery import gone_nodes, kill_leftover, note_worker
 from .resultfile import read_columns
 from .upload import receive
 
@@ -51,7 +51,8 @@ log = logging.getLogger("twinlink.cosim")
 
 INTERRUPTED = "the server stopped while this co-simulation ran; start it again"
 SAVE_EVERY_S = 1.0  # a running co-simulation's progress is saved at most this often
-RESULTS = "results/outputs.csv"
+RESULTS_DIR = "results"
+RESULTS = f"{RESULTS_DIR}/outputs.csv"
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,6 +105,8 @@ class CosimService:
             running = await self.store.list_cosims("running")
             nodes = gone_nodes([r.node for r in running if r.node])
         failed = await self.store.fail_running_cosims(nodes, INTERRUPTED, time.time_ns())
+        for record in failed:  # a worker a killed server left behind ends with it
+            await asyncio.to_thread(kill_leftover, self.folder(record.id) / RESULTS_DIR)
         if failed:
             log.warning("co-simulations interrupted by a stop", extra={
                 "event": "cosims_interrupted", "cosims": [r.id for r in failed]})  # fmt: skip
@@ -273,6 +276,7 @@ class CosimService:
         await self.store.save_cosim(record)
         self._running[record.id] = running
         await running.job.start()
+        await asyncio.to_thread(note_worker, csv.parent, running.job.pid)
         running.task = asyncio.create_task(self._follow(running), name=f"cosim-{record.id}")
         log.info("co-simulation started", extra={"event": "cosim_started", "cosim": record.id,
                                                  "mode": record.mode})  # fmt: skip
