@@ -1,9 +1,14 @@
-"""The fixed-step master algorithms: Jacobi and Gauss-Seidel.
+"""The master algorithms' macro step: Jacobi and Gauss-Seidel (the step's size is the
+caller's: a fixed grid in session.py, a variable one in varstep.py).
 
 Jacobi: every instance steps from the outputs all of them had at the start of the step.
 Gauss-Seidel: instances step one after another, in an order following the connections, and
 each sees the outputs of those already stepped to the end of this step (the usual choice:
 as cheap, and closer to the monolithic solution for the same step).
+
+An instance asking to terminate does not cut the step short for the others: they finish it,
+every output is read, and the step's row is recorded (as the FMU blueprint keeps the
+terminating step's outputs); the run then ends.
 
 A connection is a copy between two numpy buffers (see slaves.py), so a macro step is one raw
 FMI call per instance and type and direction plus a few item copies; recording is one numpy
