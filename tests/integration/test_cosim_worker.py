@@ -181,6 +181,35 @@ def test_the_worker_speaks_json_lines_columns_first_and_the_end_last(
     assert len(rows) == 201
 
 
+# The worker, with the run printing on file descriptor 1 as an FMU's printf would.
+NOISY_WORKER = """
+import os, sys
+from twinlink.cosim import worker
+ran = worker.run
+def run(*args):
+    os.write(1, b"native noise without a newline")
+    print("print() from Python")
+    return ran(*args)
+worker.run = run
+sys.exit(worker.main())
+"""
+
+
+def test_what_fmus_print_goes_to_stderr_not_between_the_lines(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    spec = spec_of(document(tmp_path, step=0.01, end=1.0), fmus)
+    done = subprocess.run(
+        [sys.executable, "-c", NOISY_WORKER], input=spec.to_json(), capture_output=True,
+        env=worker_environment(tmp_path), cwd=tmp_path, timeout=120, check=True,
+    )  # fmt: skip
+    lines = [orjson.loads(line) for line in done.stdout.splitlines()]
+    assert lines[-1]["end"] == "finished"
+    assert sum(len(line.get("rows", [])) for line in lines) == 101
+    assert b"native noise without a newline" in done.stderr
+    assert b"print() from Python" in done.stderr
+
+
 async def test_a_realtime_run_gives_the_batch_results_and_its_jitter(
     tmp_path: Path, fmus: dict[str, Path]
 ) -> None:

@@ -24,6 +24,7 @@ import csv
 import ctypes
 import faulthandler
 import logging
+import os
 import resource
 import signal
 import sys
@@ -210,6 +211,15 @@ def _stop_with_parent() -> None:
             ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
 
 
+def _own_stdout() -> IO[bytes]:
+    """The protocol's own copy of stdout; file descriptor 1 then goes to stderr, so what an
+    FMU's native code prints (printf) or Python code prints never lands inside a line."""
+    sys.stdout.flush()
+    protocol = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)
+    return protocol
+
+
 def main() -> int:
     # A stop is the server's SIGTERM (after the current step); Ctrl-C is the server's own.
     stop = threading.Event()
@@ -225,7 +235,7 @@ def main() -> int:
     logging.basicConfig(
         stream=sys.stderr, level=logging.INFO, format="%(levelname)s %(name)s: %(message)s"
     )
-    out = Output(sys.stdout.buffer, stop)
+    out = Output(_own_stdout(), stop)
     try:
         spec = JobSpec.from_json(sys.stdin.buffer.read())
         end, message = run(spec, stop, out)
