@@ -18,7 +18,7 @@ import httpx
 import psutil
 import pytest
 
-from tests.conftest import FmuFiles, Server, restart_server, start_server, stop_server
+from tests.conftest import ROOT, FmuFiles, Server, restart_server, start_server, stop_server
 from tests.integration._util import (
     JSON_HEADERS,
     assert_problem,
@@ -34,6 +34,7 @@ ZIP = {"Content-Type": "application/zip"}
 TAR = {"Content-Type": "application/x-tar"}
 COSIMS = "/api/v1/cosims"
 HOUR_NS = 3600 * 10**9
+COSIM_FILES = ROOT / "tests" / "cosim_files"
 
 
 @pytest.fixture(scope="module")
@@ -324,3 +325,63 @@ def test_a_server_stop_stops_its_runs_and_a_crash_fails_them(
             admin.post(f"{COSIMS}/{crashed_id}/stop")
     finally:
         stop_server(srv)
+
+
+def test_the_tools_files_run_unchanged_ssp_yaml_and_a_multi_model_with_its_coe_json(
+    server: Server, fmu_files: FmuFiles
+) -> None:
+    """The fixtures modelled on the tools' files (tests/cosim_files), FMUs under their names."""
+    fmus = {"MassSpringDamper1.fmu": fmu_files("msd_mass").read_bytes(),
+            "MassSpringDamper2.fmu": fmu_files("msd_spring").read_bytes()}  # fmt: skip
+    ssp_dir = COSIM_FILES / "msd_ssp"
+    ssp = zip_of({
+        **{p.relative_to(ssp_dir).as_posix(): p.read_bytes()
+           for p in ssp_dir.rglob("*") if p.is_file()},
+        **{f"resources/{name}": data for name, data in fmus.items()},
+    })  # fmt: skip
+    msd = COSIM_FILES / "msd"
+    maestro = tar_of({"mm.json": (msd / "mm.json").read_bytes(),
+                      "coe.json": (msd / "coe.json").read_bytes(), **fmus})  # fmt: skip
+    with server.admin as admin:
+        slug = make_twin(admin)
+        for name, data in fmus.items():
+            assert admin.put(f"/api/v1/twins/{slug}/fmus/{name}", content=data).status_code == 201
+        made = [
+            admin.post(COSIMS, content=ssp, headers=ZIP),
+            admin.post(COSIMS, params={"twin": slug}, content=(msd / "msd.yaml").read_bytes(),
+                       headers={"Content-Type": "application/yaml"}),
+            admin.post(COSIMS, content=maestro, headers=TAR),
+        ]  # fmt: skip
+        for r in made:
+            assert r.status_code == 201, r.text
+        assert [r.json()["system"]["source"] for r in made] == ["ssp", "yaml", "maestro"]
+        # coe.json's algorithm and end time complete mm.json's system
+        assert made[2].json()["system"]["algorithm"]["size"] == 0.001
+        for r in made:
+            admin.post(f"{COSIMS}/{r.json()['id']}/start")
+        runs = [ended(admin, r.json()["id"]) for r in made]
+        assert [run["state"] for run in runs] == ["finished"] * 3, runs
+        assert [run["sim_time"] for run in runs] == pytest.approx([10.0] * 3)
+        assert "{msd2}.msd2i.x2" in runs[2]["columns"]  # Maestro's own column names
+        assert "msd2.msd2i.x2" in runs[1]["columns"]
+
+
+def test_library_models_resolve_pinned(server: Server, fmu_files: FmuFiles) -> None:
+    name = unique("msd-pair")
+    fmus = {f"{n}.fmu": fmu_files(n).read_bytes() for n in ("msd_mass", "msd_spring")}
+    with server.admin as admin:
+        r = admin.post(f"/api/v1/library/me/models/{name}/versions", params={"format": "zip"},
+                       content=zip_of(fmus))  # fmt: skip
+        assert r.status_code == 201, r.text
+        model = multimodel(fmus={"{msd1}": f"lib:models/{name}#msd_mass.fmu",
+                                 "{msd2}": f"lib:models/{name}@latest#msd_spring.fmu"})  # fmt: skip
+        made = admin.post(COSIMS, content=json.dumps(model).encode(), headers=JSON_HEADERS)
+        assert made.status_code == 201, made.text
+        cosim_id = made.json()["id"]
+        admin.post(f"{COSIMS}/{cosim_id}/start")
+        assert ended(admin, cosim_id)["state"] == "finished"
+        missing = multimodel(fmus={"{msd1}": f"lib:models/{name}#nope.fmu",
+                                   "{msd2}": "msd_spring.fmu"})  # fmt: skip
+        detail = assert_problem(admin.post(COSIMS, content=json.dumps(missing).encode(),
+                                           headers=JSON_HEADERS), 422)["detail"]  # fmt: skip
+        assert "instance 'msd1.m1'" in detail and "nope.fmu" in detail
