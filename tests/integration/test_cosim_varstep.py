@@ -4,22 +4,27 @@ a run that adapts but never rejects, saying so."""
 
 from __future__ import annotations
 
+import json
+import logging
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.conftest import FmuFiles
+from tests.conftest import ROOT, FmuFiles
 from tests.integration.test_cosim_master import monolithic, msd_system
 from twinlink.cosim import kinds
 from twinlink.cosim.model import Algorithm, Instance, Port, System
 from twinlink.cosim.protocol import SlaveLike
+from twinlink.cosim.reading import read_system
 from twinlink.cosim.results import Result
 from twinlink.cosim.runner import CosimRunError, run
 from twinlink.cosim.session import Session
 
 pytestmark = pytest.mark.integration
+
+MSD_FILES = ROOT / "tests" / "cosim_files" / "msd"
 
 # More damped than the fixed-step tests' pair: the motion dies out, and a var-step master
 # lengthens its steps as it does, where a fixed step stays as short as the start needs.
@@ -178,3 +183,25 @@ def test_an_fmi3_fmu_rolls_back_with_the_others(fmus: dict[str, Path], fmu_files
     assert np.array_equal(counter, 1 + np.floor(times + 1e-9))
     assert times[-1] == 9.0 and counter[-1] == 10.0
     assert session.ended.startswith("instance 'stair' (stair3.fmu) asked to terminate at t = 9 s")
+
+
+def test_maestros_var_step_file_runs_with_its_constraints_named(
+    fmus: dict[str, Path], tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The INTO-CPS multi-model with the settings of Maestro's own var-step test (size
+    [1e-6, 1], initsize 1e-4, a boundeddifference constraint), read by read_system."""
+    model = json.loads((MSD_FILES / "mm.json").read_text())
+    settings = json.loads((MSD_FILES / "varstep.json").read_text())
+    path = tmp_path / "varstep.json"
+    path.write_text(json.dumps(model | settings))
+    with caplog.at_level(logging.WARNING, logger="twinlink.cosim"):
+        system = read_system(path)
+    assert "bd (boundeddifference) are not applied" in caplog.text
+    paths = {"MassSpringDamper1.fmu": fmus["msd1.fmu"], "MassSpringDamper2.fmu": fmus["msd2.fmu"]}
+    result, session = simulate(system, paths, 1e-4)
+    times = result.column("time")
+    assert times[0] == 0.0 and times[1] == pytest.approx(1e-4) and times[-1] == 10.0
+    assert session.varstep is not None and session.varstep.rollback and session.steps < 5000
+    params = {"m1": 1.0, "c1": 1.0, "d1": 0.0, "m2": 1.0, "c2": 1.0, "d2": 1.0}
+    reference = monolithic(times, **params, cc=1.0, dc=1.0)
+    assert np.max(np.abs(result.column("{msd2}.msd2i.x2") - reference[1])) < 0.005
