@@ -30,10 +30,10 @@ export function ConnectionGraph({ system }: { system: CosimSystem }) {
           viewBox={`0 0 ${layout.width} ${layout.height}`}
         >
           <defs>
-            <marker id="cosim-arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse">
+            <marker id="cosim-arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="8" markerHeight="8" markerUnits="userSpaceOnUse" orient="auto-start-reverse">
               <path d="M 0 0 L 10 5 L 0 10 z" className="cosim-arrowhead" />
             </marker>
-            <marker id="cosim-arrow-loop" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse">
+            <marker id="cosim-arrow-loop" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="8" markerHeight="8" markerUnits="userSpaceOnUse" orient="auto-start-reverse">
               <path d="M 0 0 L 10 5 L 0 10 z" className="cosim-arrowhead cosim-loop" />
             </marker>
           </defs>
@@ -70,8 +70,8 @@ export function ConnectionGraph({ system }: { system: CosimSystem }) {
       <figcaption>
         {loops.length > 0 ? (
           <div className="cosim-loops" role="note">
-            <strong>{loops.length === 1 ? "An algebraic loop" : `${loops.length} algebraic loops`}</strong> (in red): the co-simulation cannot
-            run: the masters do not iterate, so a start is refused until the loop is broken (a variable that does not feed through, or a delay).
+            <strong>{loops.length === 1 ? "An algebraic loop" : `${loops.length} algebraic loops`}</strong> (in red): the masters do not iterate, so a
+            start is refused until the loop is broken (a variable that does not feed through, or a delay).
             <ul className="plain-list">
               {loops.map((loop) => (
                 <li key={loop.join(" ")} className="mono">

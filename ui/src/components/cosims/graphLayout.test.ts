@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import type { CosimConnection } from "../../api/cosims";
-import { backEdges, layers, layoutGraph, splitPort, type Box, type Layout } from "./graphLayout";
+import { arcLevels, backEdges, BOX_H, layers, layoutGraph, splitPort, type Box, type Layout } from "./graphLayout";
 
 const conn = (source: string, target: string): CosimConnection => ({ source, target });
 const box = (layout: Layout, name: string) => layout.boxes.find((b) => b.name === name) as Box;
@@ -47,8 +47,8 @@ describe("layoutGraph", () => {
     // From the spring's bottom, below both boxes, up into the mass's bottom.
     const points = pathPoints(back!.path);
     const lowest = Math.max(mass.y + mass.height, spring.y + spring.height);
-    expect(points[0]).toEqual([spring.x + spring.width / 2, spring.y + spring.height]);
-    expect(points[3]).toEqual([mass.x + mass.width / 2, mass.y + mass.height]);
+    expect(points[0]).toEqual([spring.x + spring.width / 2 - 6, spring.y + spring.height]);
+    expect(points[3]).toEqual([mass.x + mass.width / 2 + 6, mass.y + mass.height]);
     expect(points[1]![1]).toBeGreaterThan(lowest);
     expect(layout.height).toBeGreaterThan(points[1]![1]);
     // The forward arrow leaves the mass's right side and ends on the spring's left side.
@@ -82,7 +82,11 @@ describe("layoutGraph", () => {
     for (const one of layout.boxes) {
       for (const other of layout.boxes) if (one !== other) expect(overlaps(one, other)).toBe(false);
     }
-    expect(layout.edges.every((e) => e.kind === "forward")).toBe(true);
+    // a -> d skips a column: drawn over the boxes, not through b or c.
+    expect(layout.edges.filter((e) => e.kind !== "forward").map((e) => `${e.from}>${e.to}:${e.kind}`)).toEqual(["a>d:over"]);
+    const over = pathPoints(edge(layout, "a", "d")!.path);
+    expect(over[1]![1]).toBeLessThan(Math.min(...layout.boxes.map((x) => x.y)));
+    expect(over[1]![1]).toBeGreaterThan(0);
     expect(layout.width).toBeGreaterThan(Math.max(...layout.boxes.map((x) => x.x + x.width)));
   });
 
@@ -117,10 +121,26 @@ describe("layoutGraph", () => {
     const connections = chain.slice(1).flatMap((n, i) => [conn(`${chain[i]}.x`, `${n}.x_in`), conn(`${n}.f`, `${chain[i]}.f_in`)]);
     const layout = layoutGraph({ instances: chain.slice(0, 9), connections, loops: [] });
     expect(layout.boxes.map((b) => b.layer)).toEqual(chain.map((_, i) => i));
-    expect(layout.edges.filter((e) => e.kind === "back")).toHaveLength(9);
-    // Each arrow back dips to its own depth, so none hides another.
-    const depths = layout.edges.filter((e) => e.kind === "back").map((e) => pathPoints(e.path)[1]![1]);
-    expect(new Set(depths).size).toBe(9);
+    const backs = layout.edges.filter((e) => e.kind === "back");
+    expect(backs).toHaveLength(9);
+    // Neighbours' arrows back share no stretch: one depth for all, just below the row.
+    const depths = backs.map((e) => pathPoints(e.path)[1]![1]);
+    expect(new Set(depths).size).toBe(1);
+    expect(layout.height).toBeLessThan(box(layout, "m0").y + BOX_H + 100);
+    // At each box the arrow in and the arrow out do not meet in one point.
+    for (const name of chain.slice(1, -1)) {
+      const arriving = pathPoints(backs.find((e) => e.to === name)!.path)[3]!;
+      const leaving = pathPoints(backs.find((e) => e.from === name)!.path)[0]!;
+      expect(arriving[0]).not.toBe(leaving[0]);
+    }
+  });
+});
+
+describe("arcLevels", () => {
+  it("puts arcs that share a stretch of columns on different levels, the shorter inside", () => {
+    expect(arcLevels([[0, 3], [1, 2], [0, 1], [1, 2]])).toEqual([2, 0, 0, 1]);
+    // Meeting at a column is no overlap.
+    expect(arcLevels([[0, 1], [1, 2], [2, 3]])).toEqual([0, 0, 0]);
   });
 });
 

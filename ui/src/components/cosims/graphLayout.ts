@@ -29,7 +29,7 @@ export interface Box {
   inLoop: boolean;
 }
 
-export type EdgeKind = "forward" | "back" | "self";
+export type EdgeKind = "forward" | "over" | "back" | "self";
 
 export interface Edge {
   from: string;
@@ -64,8 +64,9 @@ const ROW_GAP = 34;
 const COL_GAP_MIN = 110;
 const MARGIN = 24;
 const LABEL_MAX = 3;
-const BACK_DEPTH = 34;
-const BACK_STEP = 22;
+/** How far an arc (back below, over above) clears the boxes, and the step between levels. */
+const ARC_DEPTH = 34;
+const ARC_STEP = 22;
 const SELF_RISE = 30;
 
 /** A port from the API: the longest instance name that prefixes it with a dot is the instance
@@ -233,6 +234,36 @@ function curve(p: number[][]): string {
   return `M ${a[0]} ${a[1]} C ${b[0]} ${b[1]}, ${c[0]} ${c[1]}, ${d[0]} ${d[1]}`;
 }
 
+type Kind = EdgeKind;
+
+/** How an edge is drawn: a self loop; back (closing a cycle: right to left, below); over (a
+ * forward edge that skips columns: above the boxes, so that it does not cross those between);
+ * forward (to the next column, straight across). */
+function kindOf(g: Grouped, layer: Map<string, number>, back: Set<string>): Kind {
+  if (g.from === g.to) return "self";
+  if (back.has(edgeKey(g.from, g.to))) return "back";
+  return (layer.get(g.to) ?? 0) - (layer.get(g.from) ?? 0) > 1 ? "over" : "forward";
+}
+
+/** A level (0 nearest the boxes) for each arc spanning columns [lo, hi], so that arcs on one
+ * level never share a stretch of columns (they may meet at a column); shorter arcs inside. */
+export function arcLevels(spans: readonly [number, number][]): number[] {
+  const order = spans.map((_, i) => i).sort((i, j) => {
+    const [a, b] = [spans[i] as [number, number], spans[j] as [number, number]];
+    return a[1] - a[0] - (b[1] - b[0]) || a[0] - b[0];
+  });
+  const taken: [number, number][][] = [];
+  const levels = new Array<number>(spans.length).fill(0);
+  for (const i of order) {
+    const [lo, hi] = spans[i] as [number, number];
+    let level = 0;
+    while ((taken[level] ?? []).some(([l, h]) => Math.max(l, lo) < Math.min(h, hi))) level++;
+    (taken[level] ??= []).push([lo, hi]);
+    levels[i] = level;
+  }
+  return levels;
+}
+
 /** The whole drawing: boxes placed, every edge's path and label, and the size of it all. */
 export function layoutGraph(input: GraphInput): Layout {
   const names = [...new Set([...input.instances])];
@@ -244,6 +275,18 @@ export function layoutGraph(input: GraphInput): Layout {
   const layer = layers(names, forward);
   const columns = orderColumns(names, layer, grouped);
   const loopInstances = new Set(input.loops.flat().map((p) => splitPort(p, names).instance));
+  const kinds = grouped.map((g) => kindOf(g, layer, back));
+  const span = (g: Grouped): [number, number] => {
+    const [x, y] = [layer.get(g.from) ?? 0, layer.get(g.to) ?? 0];
+    return [Math.min(x, y), Math.max(x, y)];
+  };
+  // Arcs above (over) and below (back) each get levels of their own.
+  const levelOf = new Map<Grouped, number>();
+  for (const kind of ["over", "back"] as const) {
+    const arcs = grouped.filter((_, i) => kinds[i] === kind);
+    arcLevels(arcs.map(span)).forEach((level, i) => levelOf.set(arcs[i] as Grouped, level));
+  }
+  const overLevels = Math.max(0, ...grouped.filter((_, i) => kinds[i] === "over").map((g) => (levelOf.get(g) ?? 0) + 1));
 
   // Columns as wide as their widest box, the gap after each wide enough for its labels.
   const boxWidth = (n: string) => Math.max(BOX_MIN_W, textWidth(n) + BOX_PAD);
@@ -253,7 +296,9 @@ export function layoutGraph(input: GraphInput): Layout {
   );
   const tallest = Math.max(1, ...columns.map((col) => col.length));
   const columnsHeight = tallest * BOX_H + (tallest - 1) * ROW_GAP;
-  const top = MARGIN + (grouped.some((e) => e.from === e.to) ? SELF_RISE + 14 : 0);
+  const selfRoom = kinds.includes("self") ? SELF_RISE + 14 : 0;
+  const overRoom = overLevels ? ARC_DEPTH + ARC_STEP * (overLevels - 1) + 12 : 0;
+  const top = MARGIN + Math.max(selfRoom, overRoom);
   const boxes = new Map<string, Box>();
   let x = MARGIN;
   columns.forEach((col, c) => {
@@ -275,26 +320,30 @@ export function layoutGraph(input: GraphInput): Layout {
   });
   let width = x + MARGIN;
   let height = top + columnsHeight + MARGIN;
+  // The highest top and lowest bottom of the boxes in columns lo..hi: what an arc clears.
+  const inSpan = ([lo, hi]: [number, number]) => [...boxes.values()].filter((b) => b.layer >= lo && b.layer <= hi);
 
-  let backIndex = 0;
-  const edges: Edge[] = grouped.map((g) => {
+  const edges: Edge[] = grouped.map((g, i) => {
     const a = boxes.get(g.from) as Box;
     const b = boxes.get(g.to) as Box;
+    const kind = kinds[i] as Kind;
     const text = labelText(g.labels);
     const labelWidth = textWidth(text) + 8;
+    const level = levelOf.get(g) ?? 0;
     let points: number[][];
-    let kind: EdgeKind;
-    if (g.from === g.to) {
-      kind = "self";
+    if (kind === "self") {
       const right = a.x + a.width;
       points = [[right - 18, a.y], [right - 18, a.y - SELF_RISE], [right + 26, a.y - SELF_RISE], [right, a.y + 10]];
-    } else if (back.has(edgeKey(g.from, g.to))) {
-      kind = "back";
-      const bottom = Math.max(a.y + a.height, b.y + b.height) + BACK_DEPTH + BACK_STEP * backIndex++;
-      points = [[a.x + a.width / 2, a.y + a.height], [a.x + a.width / 2, bottom], [b.x + b.width / 2, bottom], [b.x + b.width / 2, b.y + b.height]];
+    } else if (kind === "back") {
+      // Leaves left of the centre and arrives right of it, so that the arrows in and out of
+      // a box in a chain do not meet in one point.
+      const bottom = Math.max(...inSpan(span(g)).map((c) => c.y + c.height)) + ARC_DEPTH + ARC_STEP * level;
+      points = [[a.x + a.width / 2 - 6, a.y + a.height], [a.x + a.width / 2 - 6, bottom], [b.x + b.width / 2 + 6, bottom], [b.x + b.width / 2 + 6, b.y + b.height]];
       height = Math.max(height, bottom + MARGIN);
+    } else if (kind === "over") {
+      const peak = Math.min(...inSpan(span(g)).map((c) => c.y)) - ARC_DEPTH - ARC_STEP * level;
+      points = [[a.x + a.width / 2 + 6, a.y], [a.x + a.width / 2 + 6, peak], [b.x + b.width / 2 - 6, peak], [b.x + b.width / 2 - 6, b.y]];
     } else {
-      kind = "forward";
       const x1 = a.x + a.width;
       const x2 = b.x;
       const pull = Math.max(30, (x2 - x1) / 2);
