@@ -12,6 +12,7 @@ extracted FMU behind (the server's TMPDIR is the test's, so only its workers wri
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -250,15 +251,109 @@ def test_bad_ports_and_systems_are_refused_at_create_naming_the_key(
     assert r.json()["processors"] == [], r.text  # nothing was made
 
 
-def test_a_variable_the_fmu_lacks_fails_the_start_naming_it(
+@pytest.mark.parametrize(
+    ("change", "named"),
+    [
+        ({"outputs": {"x2": "s2.x9"}}, "outputs.x2 (s2.x9): Spring.fmu has no variable 'x9'"),
+        ({"inputs": {"x1": "m1.x0"}}, "params: inputs.x1 (m1.x0): Mass.fmu has no variable 'x0'"),
+        ({"system": {**BESIDE, "parameters": {"s2.c9": 1.0}}},
+         "params: system: parameters.s2.c9: Spring.fmu has no variable 'c9'"),
+        ({"system": {**BESIDE, "instances": {"m1": "Mass.fmu", "s2": "Other.fmu"}}},
+         "params: twin '{slug}' has no FMU 'Other.fmu'; upload it first"),
+    ],
+)  # fmt: skip
+def test_a_variable_or_an_fmu_the_twin_lacks_is_refused_at_create(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, change: dict[str, Any], named: str
+) -> None:
+    server, _ = tmpdir_server
+    slug, _ = twin_with_fmus(server, fmu_files)
+    body = cosim("typo", BESIDE)
+    body["params"] |= change
+    problem = assert_problem(create(server, slug, body), 422)
+    assert named.format(slug=slug) in problem["detail"], problem["detail"]
+
+
+def test_an_fmu_in_use_is_not_deleted_and_one_replaced_under_it_fails_its_start(
     tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles
 ) -> None:
+    """Its FMUs cannot be deleted while the processor exists (409); one replaced by an
+    upload without a variable it uses fails the next start of its worker, saying why, and a
+    start through the API is then a 422. Stopping it is never refused."""
     server, scratch = tmpdir_server
     slug, _ = twin_with_fmus(server, fmu_files)
-    body = cosim("typo", BESIDE, outputs={"x2": "s2.x9"})
-    assert create(server, slug, body).status_code == 201
-    view = wait_for(server, slug, "typo", lambda p: p["last_error"] is not None)
-    assert "x9" in view["last_error"], view["last_error"]
+    assert create(server, slug, cosim("swap", BESIDE)).status_code == 201
+    first = wait_for(server, slug, "swap", lambda p: p["state"] == "running")
     with server.admin as admin:
-        assert admin.delete(f"/api/v1/twins/{slug}/processors/typo").status_code == 204
+        problem = assert_problem(admin.delete(f"/api/v1/twins/{slug}/fmus/Spring.fmu"), 409)
+    assert "used by processor(s) swap" in problem["detail"]
+    upload(server, slug, fmu_files("msd_mass"), "Spring.fmu")  # its x1 is an output
+    with server.admin as admin:
+        r = admin.post(f"/api/v1/twins/{slug}/processors/swap/restart")
+    assert r.status_code == 200, r.text
+    view = wait_for(server, slug, "swap", lambda p: p["last_error"] is not None)
+    assert (
+        "the co-simulation cannot start: instance 's2' (Spring.fmu): x1 is an output"
+        in (view["last_error"])
+    )
+    assert view["pid"] != first["pid"]
+    with server.admin as admin:
+        assert admin.post(f"/api/v1/twins/{slug}/processors/swap/stop").status_code == 200
+        problem = assert_problem(admin.post(f"/api/v1/twins/{slug}/processors/swap/start"), 422)
+    assert "Spring.fmu has no variable" in problem["detail"], problem["detail"]
+    wait_for(server, slug, "swap", lambda p: p["state"] == "stopped" and p["pid"] is None)
     poll(lambda: sessions(scratch), lambda found: found == [])
+
+
+@pytest.mark.parametrize("version", ["stair", "stair3"])
+def test_an_fmu_that_ends_the_simulation_finishes_the_processor(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, version: str
+) -> None:
+    """The Stair FMU (tests/fmus/stair) counts 1 + floor(t) and ends the simulation at 9 s:
+    the rows up to its end are written, the last at 9 s, and the processor is finished."""
+    server, scratch = tmpdir_server
+    slug, [device] = device_twin(server)
+    upload(server, slug, fmu_files(version), "Stair.fmu")
+    system = {"instances": {"st": "Stair.fmu"}, "algorithm": {"type": "fixed-step", "size": 0.4}}
+    body = {"name": "stair", "blueprint": "cosim",
+            "params": {"system": system, "outputs": {"counter": "st.counter"}}}  # fmt: skip
+    assert create(server, slug, body).status_code == 201
+    wait_for(server, slug, "stair", lambda p: p["state"] == "running")
+    rows = [{"time": T0 + k * 700_000_000, "values": {"x": float(k)}} for k in range(20)]
+    with watching(server, slug, "stair") as ws:
+        with server.client(device) as c:
+            r = c.post("/api/v1/device/samples", json={"seq": 1, "samples": rows})
+        assert r.status_code == 200, r.text
+        got = samples_until(ws, lambda s: len(s) >= 24)
+    t_s = [n * 0.4 for n in range(23)] + [9.0]  # 0 to 8.8 s, then the step to 9.2 ends at 9
+    assert [s["time"] for s in got] == [T0 + round(t * 1e9) for t in t_s]
+    assert [s["values"]["counter"] for s in got] == [1.0 + math.floor(t + 1e-9) for t in t_s]
+    view = wait_for(server, slug, "stair", lambda p: p["state"] == "finished")
+    assert view["stats"]["samples_out"] == 24 and view["stats"]["restarts"] == 0
+    assert view["stats"]["crashes"] == 0 and view["last_error"] is None
+    [event] = events(server, slug, "stair", "finished")
+    assert event["message"].startswith("the co-simulation ended: "), event
+    assert "t = 9 s" in event["message"] and event["data"]["sim_time_s"] == 9.0
+    poll(lambda: sessions(scratch), lambda found: found == [])
+
+
+def test_a_var_step_co_simulation_steps_up_to_each_batch_and_follows_the_data(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
+) -> None:
+    """Var-step chooses its own steps: they start before the batch's last sample, the last
+    may end after it; the outputs follow the coupled run's to within the held inputs' error."""
+    server, _ = tmpdir_server
+    slug, device = twin_with_fmus(server, fmu_files)
+    algorithm = {"type": "var-step", "size": 0.005, "min_size": 0.001, "max_size": 0.05}
+    assert create(server, slug, cosim("var", {**BESIDE, "algorithm": algorithm})).status_code == 201
+    wait_for(server, slug, "var", lambda p: p["state"] == "running")
+    last_s = reference["time"][-1]
+    with watching(server, slug, "var") as ws:
+        post_measured(server, device, reference, T0)
+        got = samples_until(ws, lambda s: bool(s) and s[-1]["time"] >= T0 + round(last_s * 1e9))
+    t = np.array([(s["time"] - T0) * 1e-9 for s in got])
+    assert t[0] == 0.0 and bool(np.all(np.diff(t) > 0))
+    assert last_s <= t[-1] < last_s + 0.05  # the last step began before the last sample
+    x2 = np.array([s["values"]["x2"] for s in got])
+    assert np.max(np.abs(x2 - np.interp(t, reference["time"], reference["s2.x2"]))) < 0.02
+    view = wait_for(server, slug, "var", lambda p: p["stats"]["samples_out"] == len(got))
+    assert view["state"] == "running" and view["last_error"] is None

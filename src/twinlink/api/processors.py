@@ -21,6 +21,7 @@ from twinlink.api.models.processors import (
 from twinlink.api.params import OlderThan
 from twinlink.api.responses import JSONAnswer
 from twinlink.api.routing import ExactJsonRoute
+from twinlink.processors.checks import uploads_of
 from twinlink.processors.fmus import FmuService, fmu_view
 from twinlink.processors.service import ProcessorService
 from twinlink.processors.spec import ProcessorSpec
@@ -286,7 +287,8 @@ async def delete_fmu(
     users = [
         p["name"]
         for p in await processors.list_processors(caller, slug)
-        if p["blueprint"] == "fmu" and p.get("params", {}).get("fmu") == name
+        if (p["blueprint"] == "fmu" and p.get("params", {}).get("fmu") == name)
+        or name in uploads_of(processors.catalog, p["blueprint"], p.get("params", {}))
     ]
     await fmus.delete(caller, slug, name, users)
     return Response(status_code=204)

@@ -151,6 +151,22 @@ class CosimBlueprint(Blueprint[CosimParams]):
     def check(cls, params: Any) -> None:
         checked_system(params)
 
+    @classmethod
+    def uploads(cls, params: Any) -> dict[str, dict[str, str]]:
+        system, inputs, outputs = checked_system(params)
+        named: list[tuple[Port, str]] = [(p, f"inputs.{s} ({p})") for s, p in inputs.items()]
+        named += [(p, f"outputs.{s} ({p})") for s, p in outputs.items()]
+        for c in system.connections:
+            named += [(port, f"system: connections ({port})") for port in (c.source, c.target)]
+        named += [(p, f"system: parameters.{p}") for p in system.parameters]
+        for name, variables in system.log_variables.items():
+            named += [(Port(name, v), f"system: log.{name} ({name}.{v})") for v in variables]
+        fmus = {i.name: i.fmu for i in system.instances}
+        wanted: dict[str, dict[str, str]] = {fmu: {} for fmu in fmus.values()}
+        for port, key in named:
+            wanted[fmus[port.instance]].setdefault(port.variable, key)
+        return wanted
+
     def inputs(self) -> list[str]:
         return list(self.params.inputs)
 

@@ -184,6 +184,14 @@ class Blueprint(Generic[P]):
         person gets a 422 instead of a worker that fails to start. Cheap checks only (no
         files, no native code); raise BlueprintError saying what to change."""
 
+    @classmethod
+    def uploads(cls, params: Any) -> dict[str, dict[str, str]]:
+        """The FMUs uploaded to the twin these parameters use, by file name, each with the
+        variables named in it and the parameter naming each (`{"Plant.fmu": {"x": "outputs.pos
+        (plant.x)"}}`): a processor whose twin lacks one, or whose FMU lacks a variable, is
+        refused when made (422). Cheap: no files. (The `fmu` blueprint has its own checks.)"""
+        return {}
+
     def inputs(self) -> list[str]:
         """The signals the blueprint reads, with these parameters."""
         return []

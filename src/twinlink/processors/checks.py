@@ -41,11 +41,20 @@ def checked_spec(body: dict[str, Any], catalog: dict[str, Entry]) -> ProcessorSp
 
 
 async def check_fmu(
-    spec: ProcessorSpec, twin_id: int, slug: str, store: MetadataStore, lib: LibraryFmus
+    spec: ProcessorSpec,
+    twin_id: int,
+    slug: str,
+    store: MetadataStore,
+    lib: LibraryFmus,
+    catalog: dict[str, Entry] | None = None,
 ) -> None:
     """Refuse an `fmu` processor its FMU cannot run (422 naming the variable and why), from
     the description kept at upload or library push, so it is not made to crash-loop later.
-    Enumeration parameters given by item name are stored as the item's value."""
+    Enumeration parameters given by item name are stored as the item's value. Another
+    blueprint's uploaded FMUs (Blueprint.uploads) must be there, with the variables named,
+    when it is to run: a stopped processor can always be changed and stopped."""
+    if catalog is not None and spec.enabled and spec.blueprint != FMU_BLUEPRINT:
+        await check_uploads(spec, catalog, twin_id, slug, store)
     if spec.blueprint != FMU_BLUEPRINT or not isinstance(spec.params.get("fmu"), str):
         return
     name = spec.params["fmu"]
@@ -66,6 +75,41 @@ async def check_fmu(
         for key, value in parameters.items():
             if by_name[key].get("type") == "Enumeration":
                 parameters[key] = enumeration_value(by_name[key], value)
+
+
+def uploads_of(
+    catalog: dict[str, Entry], blueprint: str, params: dict[str, Any]
+) -> dict[str, dict[str, str]]:
+    """The uploaded FMUs a processor of `blueprint` with `params` uses (Blueprint.uploads),
+    with the variables it names in each; {} for params its blueprint refuses."""
+    entry = catalog.get(blueprint)
+    cls = entry.cls if entry is not None else None
+    if cls is None:
+        return {}
+    try:
+        return cls.uploads(cls.Params.model_validate(params))
+    except (ValidationError, BlueprintError):  # checked_spec refuses these
+        return {}
+
+
+async def check_uploads(
+    spec: ProcessorSpec, catalog: dict[str, Entry], twin_id: int, slug: str, store: MetadataStore
+) -> None:
+    """Refuse a processor naming an FMU the twin has not uploaded, or a variable that FMU
+    does not have (from the description kept at upload), naming the parameter."""
+    wanted = uploads_of(catalog, spec.blueprint, spec.params)
+    records = {f.name: f for f in await store.list_fmus(twin_id)} if wanted else {}
+    for name, variables in wanted.items():
+        record = records.get(name)
+        if record is None:
+            raise InvalidInputError(
+                f"params: twin {slug!r} has no FMU {name!r}; upload it first "
+                f"(PUT /api/v1/twins/{slug}/fmus/{name})"
+            )
+        known = {v.get("name") for v in record.info.get("variables", [])}
+        for variable, key in variables.items():
+            if variable not in known:
+                raise InvalidInputError(f"params: {key}: {name} has no variable {variable!r}")
 
 
 def spec_of(record: ProcessorRecord) -> ProcessorSpec:

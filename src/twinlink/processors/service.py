@@ -136,7 +136,7 @@ class ProcessorService:
         twin = await editable_twin(self.registry, principal, slug)
         spec = self._checked(body)
         pinned = await self.lib.pin(principal, spec.params)  # a library FMU, pinned
-        await check_fmu(spec, twin.id, twin.slug, self.store, self.lib)
+        await check_fmu(spec, twin.id, twin.slug, self.store, self.lib, self.catalog)
         existing = await self.store.list_processors(twin.id)
         if any(r.name == spec.name for r in existing):
             raise ConflictError(f"the twin already has a processor {spec.name!r}")
@@ -168,7 +168,7 @@ class ProcessorService:
         spec = self._checked(merged)
         new_fmu = spec.params.get("fmu") != current.params.get("fmu")
         pinned = await self.lib.pin(principal, spec.params) if new_fmu else None
-        await check_fmu(spec, record.twin_id, slug, self.store, self.lib)
+        await check_fmu(spec, record.twin_id, slug, self.store, self.lib, self.catalog)
         others = [r for r in await self.store.list_processors(record.twin_id) if r.id != record.id]
         check_chain(spec, others)
         if spec.enabled and record.id not in self.hosted:
