@@ -13,18 +13,22 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType
+from typing import TYPE_CHECKING
 
 import click
 
 from twinlink.cli.client import DEFAULT_URL, saved_credentials
 from twinlink.cli.common import HelpGroup
-from twinlink.cli.cosimapi import api_commands
-from twinlink.cli.cosimcheck import describe
-from twinlink.cli.cosimrun import FileError, Loaded, execute, load, signal_name
-from twinlink.cli.cosimsend import DeviceSender, SendError
+from twinlink.cli.cosimapi import FileError, api_commands
 from twinlink.cosim.model import CosimFormatError
-from twinlink.cosim.slaves import CosimRunError
 from twinlink.domain.errors import InvalidInputError
+
+if TYPE_CHECKING:
+    from twinlink.cli.cosimrun import Loaded
+    from twinlink.cli.cosimsend import DeviceSender
+
+# The co-simulation itself (numpy, FMPy, the master) is imported by the commands that run one,
+# not by every `twinlink` command: it would add a third of a second to each start-up.
 
 FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -42,6 +46,8 @@ for _command in api_commands:
 def _loaded(
     path: Path, settings: Path | None, end: float | None, step: float | None
 ) -> Iterator[Loaded]:
+    from twinlink.cli.cosimrun import load
+
     try:
         with load(path, settings=settings, end=end, step=step) as loaded:
             yield loaded
@@ -93,6 +99,10 @@ def cosim_run(
     stderr. With --device-token they also go to the twin of that device, as signals
     "instance.variable" at the wall-clock time of the run's start plus the simulated time.
     Ctrl-C (or SIGTERM) stops it after the current step, keeping the rows so far."""
+    from twinlink.cli.cosimrun import execute, signal_name
+    from twinlink.cli.cosimsend import DeviceSender, SendError
+    from twinlink.cosim.slaves import CosimRunError
+
     server = url or ctx.find_root().obj.get("url") or saved_credentials().get("url")
     server = server or DEFAULT_URL
     with _loaded(file, settings, end, step) as loaded, _stopper() as stop:
@@ -136,6 +146,8 @@ def cosim_run(
 def cosim_check(file: Path, settings: Path | None) -> None:
     """What the co-simulation FILE holds: its instances (and each FMU's kind), connections,
     algorithm and algebraic loops. Exits 1 when it has algebraic loops."""
+    from twinlink.cli.cosimcheck import describe
+
     with _loaded(file, settings, None, None) as loaded:
         lines, loops = describe(loaded)
     for line in lines:

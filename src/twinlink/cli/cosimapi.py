@@ -19,9 +19,7 @@ import click
 
 from twinlink.cli.client import Client
 from twinlink.cli.common import client_for, emit, table
-from twinlink.cli.cosimrun import FileError
 from twinlink.cosim.model import CosimFormatError, System
-from twinlink.cosim.reading import read_system
 
 BASE = "/api/v1/cosims"
 TYPES = {
@@ -35,6 +33,13 @@ TYPES = {
     ".gz": "application/gzip",
 }
 MODES = click.Choice(["batch", "realtime"])
+
+
+class FileError(click.ClickException):
+    """A co-simulation file that cannot be run as written: exit status 2 (as click's usage
+    errors), the message naming the file and the key, line or instance."""
+
+    exit_code = 2
 
 
 def _tar(files: dict[str, Path]) -> bytes:
@@ -79,6 +84,8 @@ def upload(path: Path) -> tuple[bytes, str]:
             param_hint="FILE",
         )
     if suffix in (".json", ".yaml", ".yml"):
+        from twinlink.cosim.reading import read_system  # as cosim.py's commands: not at start-up
+
         try:
             system = read_system(path)
         except CosimFormatError as err:

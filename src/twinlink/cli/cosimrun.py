@@ -41,13 +41,6 @@ FLUSH_S = 0.5  # a paced run's CSV is flushed this often
 UNRECORDED = frozenset({"String", "Binary", "Clock"})  # a row holds numbers only
 
 
-class FileError(click.ClickException):
-    """A file that cannot be run as written: exit status 2 (as click's usage errors), the
-    message naming the file and the key, line or instance."""
-
-    exit_code = 2
-
-
 @dataclass(frozen=True, slots=True)
 class Loaded:
     """A file read: its System and each instance's FMU file (by the name the file gives)."""
