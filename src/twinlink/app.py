@@ -186,7 +186,7 @@ def build_services(settings: Settings) -> Services:
 def _cosim_service(settings: Settings, services: Services, node: str) -> CosimService:
     shared = services.storage_shared is not None  # other nodes may run co-simulations
     config = CosimSettings(settings.data_dir / "cosims", settings.cosim_max_mb * 2**20,
-                           settings.fmu_uploaders, node, shared)  # fmt: skip
+                           settings.fmu_uploaders, node, shared, settings.max_cosims)  # fmt: skip
     return CosimService(services.store, services.registry, services.ingest, services.fmus,
                         services.library, config)  # fmt: skip
 

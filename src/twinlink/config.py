@@ -165,6 +165,12 @@ class Settings(BaseSettings):
         description="Who may upload and delete FMUs: admins, or also editors of the twin. An "
         "FMU is native code that runs in a worker process under the server's user.",
     )
+    max_cosims: int = Field(
+        8,
+        ge=1,
+        description="Co-simulations that may run at once on this server (each in a process of "
+        "its own); starting one more answers 409.",
+    )
     cosim_max_mb: int = Field(
         1024,
         gt=0,

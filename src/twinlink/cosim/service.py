@@ -62,6 +62,7 @@ class CosimSettings:
     fmu_uploaders: str = "admins"  # who may upload FMUs (in a folder too)
     node: str = "local"  # this node, in the records of the runs it runs
     shared: bool = False  # other nodes share the store (PostgreSQL)
+    max_running: int = 8  # runs at once on this node
 
 
 @dataclass(slots=True)
@@ -90,6 +91,8 @@ class CosimService:
         self.library = library
         self.settings = settings
         self._running: dict[int, _Running] = {}
+        # One start (or delete) at a time: two starts of one co-simulation run it once.
+        self._changing = asyncio.Lock()
 
     def folder(self, cosim_id: int) -> Path:
         return self.settings.root / str(cosim_id)
@@ -229,11 +232,12 @@ class CosimService:
         return twin
 
     async def delete(self, principal: Principal, cosim_id: int) -> None:
-        record = await self.get(principal, cosim_id)
-        if record.state == "running":
-            raise ConflictError(f"co-simulation {cosim_id} is running: stop it first")
-        await self.store.delete_cosim(cosim_id)
-        await asyncio.to_thread(shutil.rmtree, self.folder(cosim_id), True)
+        async with self._changing:
+            record = await self.get(principal, cosim_id)
+            if record.state == "running":
+                raise ConflictError(f"co-simulation {cosim_id} is running: stop it first")
+            await self.store.delete_cosim(cosim_id)
+            await asyncio.to_thread(shutil.rmtree, self.folder(cosim_id), True)
 
     # -- runs ------------------------------------------------------------------------------
 
@@ -245,9 +249,20 @@ class CosimService:
         factor: float | None = None,
     ) -> CosimRecord:
         """Run it (again: an ended run's results are replaced); 409 while it runs."""
+        async with self._changing:
+            return await self._start(principal, cosim_id, mode, factor)
+
+    async def _start(
+        self, principal: Principal, cosim_id: int, mode: str | None, factor: float | None
+    ) -> CosimRecord:
         record = await self.get(principal, cosim_id)
         if record.state == "running":
             raise ConflictError(f"co-simulation {cosim_id} is running already")
+        if len(self._running) >= self.settings.max_running:
+            raise ConflictError(
+                f"{len(self._running)} co-simulations run on this server already, its limit "
+                "(max_cosims): stop one, or start this one when one has ended"
+            )
         record.mode = params.check_mode(mode) if mode is not None else record.mode
         record.factor = params.check_factor(factor) if factor is not None else record.factor
         _check_runnable(record)
@@ -276,8 +291,9 @@ class CosimService:
         await self.store.save_cosim(record)
         self._running[record.id] = running
         await running.job.start()
-        await asyncio.to_thread(note_worker, csv.parent, running.job.pid)
         running.task = asyncio.create_task(self._follow(running), name=f"cosim-{record.id}")
+        with contextlib.suppress(OSError):  # only a killed server's next start needs it
+            await asyncio.to_thread(note_worker, csv.parent, running.job.pid)
         log.info("co-simulation started", extra={"event": "cosim_started", "cosim": record.id,
                                                  "mode": record.mode})  # fmt: skip
         return record
