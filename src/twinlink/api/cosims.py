@@ -166,7 +166,7 @@ StreamParam = Annotated[
     response_class=JSONAnswer,
     status_code=201,
     response_model=Cosim,
-    responses={**CHANGING, **problems(413)},
+    responses={**CHANGING, **problems(413, 507)},
     openapi_extra=UPLOAD,
 )
 async def create_cosim(

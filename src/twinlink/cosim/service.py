@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import errno
 import logging
 import secrets
 import shutil
@@ -30,6 +31,7 @@ from twinlink.domain.errors import (
     ForbiddenError,
     InvalidInputError,
     NotFoundError,
+    StorageFullError,
     TwinlinkError,
 )
 from twinlink.domain.records import FmuRecord, TwinRecord, User
@@ -182,8 +184,10 @@ class CosimService:
             record.fmus, record.system = made[2].fmus, made[2].view
             record = await self.store.create_cosim(record)
             await asyncio.to_thread(incoming.rename, self.folder(record.id))
-        except BaseException:
+        except BaseException as err:
             await asyncio.to_thread(shutil.rmtree, incoming, True)
+            if isinstance(err, OSError) and err.errno == errno.ENOSPC:
+                raise StorageFullError("the server's disk is full; nothing was kept") from err
             raise
         log.info("co-simulation created", extra={"event": "cosim_created", "cosim": record.id})
         return record
