@@ -6,16 +6,19 @@ by a device, as if measured, into the spring instance of a processor running the
 that connection cut (the spring's x1 and v1 fed by the signals, the force still feeding the
 mass). Jacobi steps the spring from the mass's values at the step's start, which are the
 samples, so the processor's outputs are the batch run's values, in the twin's history at the
-samples' times. Bad ports are a 422 at create; a stop or restart leaves no instance and no
-extracted FMU behind (the server's TMPDIR is the test's, so only its workers write there).
+samples' times. Bad ports are a 422 at create; a stop, a restart or a killed worker leaves
+no instance and no extracted FMU behind (a worker extracts them in its processor's workdir,
+found from the FMU binaries it has loaded).
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from signal import SIGKILL
 from typing import Any
 
 import numpy as np
@@ -58,7 +61,7 @@ OUTPUTS = {"x2": "s2.x2", "force": "s2.fk", "x1_model": "m1.x1"}
 
 @pytest.fixture(scope="module")
 def tmpdir_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Server, Path]]:
-    """A server whose workers make their temporary folders in a folder of this module."""
+    """A server whose workers' TMPDIR is a folder of this module (where nothing should go)."""
     scratch = tmp_path_factory.mktemp("scratch")
     srv = processor_server(tmp_path_factory.mktemp("data"), TMPDIR=str(scratch))
     try:
@@ -130,9 +133,22 @@ def poll(what: Callable[[], Any], done: Callable[[Any], bool]) -> Any:
         time.sleep(0.05)
 
 
-def sessions(scratch: Path) -> list[Path]:
-    """The folders the workers' Sessions extracted their FMUs into."""
-    return sorted(scratch.glob("twinlink-cosim-*"))
+def session_dir(server: Server, pid: int) -> Path:
+    """The folder worker `pid` extracted its FMUs into (it has their binaries loaded): in its
+    processor's workdir, which each start of a worker empties."""
+    for line in Path(f"/proc/{pid}/maps").read_text().splitlines():
+        fields = line.split(maxsplit=5)
+        if len(fields) == 6 and "/twinlink-cosim-" in fields[5]:
+            path = Path(fields[5])
+            folder = next(p for p in path.parents if p.name.startswith("twinlink-cosim-"))
+            assert folder.parent.parent == server.data_dir.resolve() / "processors", folder
+            return folder
+    raise AssertionError(f"worker {pid} has no FMU of a co-simulation loaded")
+
+
+def left_in(folder: Path) -> list[Path]:
+    """The extracted co-simulations in the workdir that holds `folder`."""
+    return sorted(folder.parent.glob("twinlink-cosim-*"))
 
 
 def check_outputs(got: list[dict[str, Any]], ref: dict[str, np.ndarray], t0: int) -> None:
@@ -153,7 +169,8 @@ def test_a_device_streams_into_the_co_simulation_and_its_outputs_go_to_history(
     r = create(server, slug, cosim("pair", BESIDE))
     assert r.status_code == 201, r.text
     view = wait_for(server, slug, "pair", lambda p: p["state"] == "running")
-    assert len(sessions(scratch)) == 1  # the worker opened the pair once
+    folder = session_dir(server, view["pid"])
+    assert left_in(folder) == [folder] and list(scratch.glob("twinlink-cosim-*")) == []
     n = len(reference["time"])
     with watching(server, slug, "pair") as ws:
         post_measured(server, device, reference, T0)
@@ -168,16 +185,17 @@ def test_a_device_streams_into_the_co_simulation_and_its_outputs_go_to_history(
         r = admin.post(f"/api/v1/twins/{slug}/processors/pair/stop")
     assert r.status_code == 200, r.text
     wait_for(server, slug, "pair", lambda p: p["state"] == "stopped" and p["pid"] is None)
-    assert sessions(scratch) == []
+    assert left_in(folder) == []
 
 
 def test_a_restart_starts_the_co_simulation_again_at_the_next_sample(
     tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
 ) -> None:
-    server, scratch = tmpdir_server
+    server, _ = tmpdir_server
     slug, device = twin_with_fmus(server, fmu_files)
     assert create(server, slug, cosim("again", BESIDE)).status_code == 201
     first = wait_for(server, slug, "again", lambda p: p["state"] == "running")
+    old = session_dir(server, first["pid"])
     n = len(reference["time"])
     with watching(server, slug, "again") as ws:
         post_measured(server, device, reference, T0)
@@ -185,8 +203,11 @@ def test_a_restart_starts_the_co_simulation_again_at_the_next_sample(
     with server.admin as admin:
         r = admin.post(f"/api/v1/twins/{slug}/processors/again/restart")
     assert r.status_code == 200, r.text
-    wait_for(server, slug, "again", lambda p: p["state"] == "running" and p["pid"] != first["pid"])
-    assert len(sessions(scratch)) == 1  # the old worker's folder is gone, the new one's there
+    view = wait_for(
+        server, slug, "again", lambda p: p["state"] == "running" and p["pid"] != first["pid"]
+    )
+    folder = session_dir(server, view["pid"])
+    assert folder != old and left_in(folder) == [folder]  # the old worker's is gone
     # Time 0 again at the first new sample: the same outputs, from there on.
     t1 = T0 + 3600 * 10**9
     with watching(server, slug, "again") as ws:
@@ -195,16 +216,17 @@ def test_a_restart_starts_the_co_simulation_again_at_the_next_sample(
     check_outputs(got, reference, t1)
     with server.admin as admin:
         assert admin.delete(f"/api/v1/twins/{slug}/processors/again").status_code == 204
-    poll(lambda: sessions(scratch), lambda found: found == [])
+    poll(lambda: left_in(folder), lambda found: found == [])
 
 
 def test_the_end_time_finishes_the_processor(
     tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
 ) -> None:
-    server, scratch = tmpdir_server
+    server, _ = tmpdir_server
     slug, device = twin_with_fmus(server, fmu_files)
     assert create(server, slug, cosim("short", {**BESIDE, "end_time": 0.5})).status_code == 201
-    wait_for(server, slug, "short", lambda p: p["state"] == "running")
+    view = wait_for(server, slug, "short", lambda p: p["state"] == "running")
+    folder = session_dir(server, view["pid"])
     with watching(server, slug, "short") as ws:
         post_measured(server, device, reference, T0)
         got = samples_until(ws, lambda s: len(s) >= 51)
@@ -216,7 +238,7 @@ def test_the_end_time_finishes_the_processor(
     [event] = events(server, slug, "short", "finished")
     assert "reached its end time t = 0.5 s" in event["message"]
     assert events(server, slug, "short", "failed") == []
-    poll(lambda: sessions(scratch), lambda found: found == [])
+    assert left_in(folder) == []
 
 
 @pytest.mark.parametrize(
@@ -279,10 +301,11 @@ def test_an_fmu_in_use_is_not_deleted_and_one_replaced_under_it_fails_its_start(
     """Its FMUs cannot be deleted while the processor exists (409); one replaced by an
     upload without a variable it uses fails the next start of its worker, saying why, and a
     start through the API is then a 422. Stopping it is never refused."""
-    server, scratch = tmpdir_server
+    server, _ = tmpdir_server
     slug, _ = twin_with_fmus(server, fmu_files)
     assert create(server, slug, cosim("swap", BESIDE)).status_code == 201
     first = wait_for(server, slug, "swap", lambda p: p["state"] == "running")
+    folder = session_dir(server, first["pid"])
     with server.admin as admin:
         problem = assert_problem(admin.delete(f"/api/v1/twins/{slug}/fmus/Spring.fmu"), 409)
     assert "used by processor(s) swap" in problem["detail"]
@@ -301,7 +324,7 @@ def test_an_fmu_in_use_is_not_deleted_and_one_replaced_under_it_fails_its_start(
         problem = assert_problem(admin.post(f"/api/v1/twins/{slug}/processors/swap/start"), 422)
     assert "Spring.fmu has no variable" in problem["detail"], problem["detail"]
     wait_for(server, slug, "swap", lambda p: p["state"] == "stopped" and p["pid"] is None)
-    poll(lambda: sessions(scratch), lambda found: found == [])
+    assert left_in(folder) == []
 
 
 @pytest.mark.parametrize("version", ["stair", "stair3"])
@@ -310,14 +333,15 @@ def test_an_fmu_that_ends_the_simulation_finishes_the_processor(
 ) -> None:
     """The Stair FMU (tests/fmus/stair) counts 1 + floor(t) and ends the simulation at 9 s:
     the rows up to its end are written, the last at 9 s, and the processor is finished."""
-    server, scratch = tmpdir_server
+    server, _ = tmpdir_server
     slug, [device] = device_twin(server)
     upload(server, slug, fmu_files(version), "Stair.fmu")
     system = {"instances": {"st": "Stair.fmu"}, "algorithm": {"type": "fixed-step", "size": 0.4}}
     body = {"name": "stair", "blueprint": "cosim",
             "params": {"system": system, "outputs": {"counter": "st.counter"}}}  # fmt: skip
     assert create(server, slug, body).status_code == 201
-    wait_for(server, slug, "stair", lambda p: p["state"] == "running")
+    view = wait_for(server, slug, "stair", lambda p: p["state"] == "running")
+    folder = session_dir(server, view["pid"])
     rows = [{"time": T0 + k * 700_000_000, "values": {"x": float(k)}} for k in range(20)]
     with watching(server, slug, "stair") as ws:
         with server.client(device) as c:
@@ -333,7 +357,34 @@ def test_an_fmu_that_ends_the_simulation_finishes_the_processor(
     [event] = events(server, slug, "stair", "finished")
     assert event["message"].startswith("the co-simulation ended: "), event
     assert "t = 9 s" in event["message"] and event["data"]["sim_time_s"] == 9.0
-    poll(lambda: sessions(scratch), lambda found: found == [])
+    assert left_in(folder) == []
+
+
+def test_a_killed_worker_leaves_nothing_behind_once_restarted(
+    tmpdir_server: tuple[Server, Path], fmu_files: FmuFiles, reference: dict[str, np.ndarray]
+) -> None:
+    """A worker killed outright (SIGKILL: no stop runs) leaves its extracted FMUs; the next
+    worker empties the workdir before it opens the co-simulation again."""
+    server, _ = tmpdir_server
+    slug, device = twin_with_fmus(server, fmu_files)
+    assert create(server, slug, cosim("killed", BESIDE)).status_code == 201
+    first = wait_for(server, slug, "killed", lambda p: p["state"] == "running")
+    old = session_dir(server, first["pid"])
+    os.kill(first["pid"], SIGKILL)
+    view = wait_for(
+        server, slug, "killed", lambda p: p["state"] == "running" and p["pid"] != first["pid"]
+    )
+    assert view["stats"]["crashes"] == 1
+    folder = session_dir(server, view["pid"])
+    assert left_in(folder) == [folder] and not old.exists()
+    with watching(server, slug, "killed") as ws:  # and it runs from time 0 again
+        post_measured(server, device, reference, T0)
+        got = samples_until(ws, lambda s: len(s) >= len(reference["time"]))
+    check_outputs(got, reference, T0)
+    with server.admin as admin:
+        assert admin.post(f"/api/v1/twins/{slug}/processors/killed/stop").status_code == 200
+    wait_for(server, slug, "killed", lambda p: p["state"] == "stopped")
+    assert left_in(folder) == []
 
 
 def test_a_var_step_co_simulation_steps_up_to_each_batch_and_follows_the_data(

@@ -206,7 +206,9 @@ class CosimBlueprint(Blueprint[CosimParams]):
         paths = {i.fmu: files / i.fmu for i in system.instances}
         ports = list(dict.fromkeys(self._in.values()))
         try:
-            session = Session(system, paths, external_inputs=ports)
+            # In the worker's workdir, which each start empties: a killed worker's
+            # extracted FMUs do not pile up.
+            session = Session(system, paths, external_inputs=ports, workdir=self.ctx.workdir)
         except TwinlinkError as err:
             raise BlueprintError(f"the co-simulation cannot start: {err}") from err
         self._session = session

@@ -57,8 +57,10 @@ class Session:
         *,
         external_inputs: Sequence[Port] = (),
         tolerance: float = TOLERANCE,
+        workdir: Path | None = None,
     ) -> None:
-        """`tolerance`: the var-step master's relative tolerance (varstep.py).
+        """`tolerance`: the var-step master's relative tolerance (varstep.py). The FMUs are
+        extracted into a new folder in `workdir` (default: the system's temporary folder).
 
         Raises InvalidInputError for a system that cannot run (before any FMU is loaded,
         except an algebraic loop: found from the FMUs' own feedthrough once they are open),
@@ -70,7 +72,7 @@ class Session:
         self.steps = 0  # macro steps taken (var-step: accepted ones; varstep has the rest)
         self.warnings: list[str] = []  # what the run does not do as the file asks
         self._slaves: list[SlaveLike] = []
-        self._workdir = Path(tempfile.mkdtemp(prefix="twinlink-cosim-"))
+        self._workdir = Path(tempfile.mkdtemp(prefix="twinlink-cosim-", dir=workdir))
         self._initialized = False
         self._done = False
         try:
