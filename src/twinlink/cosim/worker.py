@@ -19,9 +19,7 @@ the Python stack on stderr, and the server (jobs.py) tells it from the exit stat
 
 from __future__ import annotations
 
-import contextlib
 import csv
-import ctypes
 import faulthandler
 import logging
 import os
@@ -55,12 +53,12 @@ log = logging.getLogger("twinlink.cosim.worker")
 MAX_BATCH_ROWS = 1000
 PROGRESS_EVERY = 0.01  # of the span: at most about 100 progress lines a run
 PROGRESS_WALL_NS = 1_000_000_000  # in real time, also at least once a second
-_PR_SET_PDEATHSIG = 1
 
 
 class Output:
     """JSON lines on stdout, each flushed as written. A reader that went away (the server
-    stopped) stops the run: nobody is left to tell."""
+    died) stops the run at the next line: nobody is left to tell. A real-time run writes
+    a line at least once a second, a batch run once per 1 % of it and at its end."""
 
     def __init__(self, stream: IO[bytes], stop: threading.Event) -> None:
         self.stream = stream
@@ -202,15 +200,6 @@ def _at_end(session: Session) -> bool:
     return bool(session.ended) or (end is not None and session.time >= end)
 
 
-def _stop_with_parent() -> None:
-    """Be sent SIGTERM (a stop) when the thread that started this process ends (Linux): a
-    server killed outright leaves no run behind, without waiting for the run's next write
-    to its broken pipe (a long batch run without rows sent writes once per 1 % of it)."""
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
-
-
 def _own_stdout() -> IO[bytes]:
     """The protocol's own copy of stdout; file descriptor 1 then goes to stderr, so what an
     FMU's native code prints (printf) or Python code prints never lands inside a line."""
@@ -229,7 +218,6 @@ def main() -> int:
 
     signal.signal(signal.SIGTERM, stopping)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _stop_with_parent()
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))  # a crashing FMU leaves no core file
     faulthandler.enable(sys.stderr)  # ...but its stack, for the run's message
     logging.basicConfig(
