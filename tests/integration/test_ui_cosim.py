@@ -1,6 +1,7 @@
 """The web app's Co-simulations pages in a real browser (Debian's chromium driven by
 playwright-core, ui/e2e/cosim.mjs) against a real server: a zip of a Maestro multi-model beside
-the two mass-spring-damper FMUs uploaded to make a co-simulation, run in batch to its end; its
+the two mass-spring-damper FMUs uploaded to make a co-simulation writing into a twin's history,
+run in batch to its end; its
 connection graph (the pair's cycle, no algebraic loop), its results charted and its CSV
 downloaded; run again in real time, its progress and chart moving while it runs, then stopped;
 a file that is no multi-model refused with the server's reason; one made without starting it,
@@ -18,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from tests.conftest import ROOT, FmuFiles, Server
+from tests.integration._util import slug_of, twin_doc
 
 pytestmark = pytest.mark.integration
 UI = ROOT / "ui"
@@ -56,6 +58,11 @@ def test_run_a_cosimulation_from_the_browser(
     assert node, "Node.js 20+ is needed (make test installs it)"
     assert (UI / "node_modules" / "playwright-core").is_dir(), "run make test (npm install)"
     assert os.path.exists("/usr/bin/chromium"), "make test installs Debian's chromium"
+    with server.admin as admin:
+        r = admin.post("/api/v1/apply", content=twin_doc("urn:test:ui-rig", name="UI rig").encode(),
+                       headers={"Content-Type": "application/yaml"})  # fmt: skip
+        assert r.status_code == 200, r.text
+        twin = slug_of(r)
     bad = tmp_path / "broken.json"
     bad.write_text('{"fmus": {"{a}": "a.fmu"},\n "connections": [\n')
     SHOTS.mkdir(parents=True, exist_ok=True)
@@ -66,6 +73,7 @@ def test_run_a_cosimulation_from_the_browser(
         "E2E_PASSWORD": server.admin_password,
         "E2E_ZIP": str(_zip(tmp_path / "msd.zip", fmu_files)),
         "E2E_BAD": str(bad),
+        "E2E_TWIN": twin,
         "E2E_SHOTS": str(SHOTS),
     }
     run = subprocess.run(
@@ -89,3 +97,8 @@ def test_run_a_cosimulation_from_the_browser(
         assert r.status_code == 200, r.text
         rows = r.text.strip().splitlines()
         assert 1 < len(rows) < 3002  # the stopped run's rows so far, its header first
+        # The batch run chosen to write into the twin did: its columns are the twin's signals.
+        assert (cosim["twin"], cosim["prefix"]) == (twin, "sim.")
+        streams = admin.get(f"/api/v1/twins/{twin}/streams")
+        assert streams.status_code == 200, streams.text
+        assert "sim.msd2.m2.x2" in streams.text and "sim.msd2.m2.v2" in streams.text

@@ -1,7 +1,8 @@
 // The Co-simulations pages in Debian's chromium, driven by playwright-core. Run by
 // tests/integration/test_ui_cosim.py against a real server: E2E_URL, E2E_USER, E2E_PASSWORD
 // (an admin), E2E_ZIP (a zip of a Maestro multi-model beside the two mass-spring-damper FMUs it
-// names, 30 s of simulated time), E2E_BAD (a .json that is no multi-model), E2E_SHOTS (folder).
+// names, 30 s of simulated time), E2E_BAD (a .json that is no multi-model), E2E_TWIN (a twin's
+// slug the admin may write), E2E_SHOTS (folder).
 // Prints "ok <step>" for each step that passed.
 import { readFileSync } from 'node:fs';
 import { chromium } from 'playwright-core';
@@ -50,11 +51,16 @@ const until = async (what, check, timeoutMs = 60000) => {
     await page.waitForTimeout(200);
   }
 };
-const create = async (file, name, start) => {
+const create = async (file, name, start, twin = '') => {
   await page.getByRole('button', { name: 'New co-simulation' }).click();
   const form = page.getByRole('form', { name: 'New co-simulation' });
   await form.getByLabel('File').setInputFiles(file);
   await form.getByLabel('Name').fill(name);
+  if (twin) {
+    await form.getByRole('option', { name: twin, exact: true }).waitFor({ state: 'attached' });
+    await form.getByLabel('Twin').selectOption(twin);
+    await form.getByLabel('Signal prefix').fill('sim.');
+  }
   const box = form.getByRole('checkbox', { name: 'Start it now' });
   if ((await box.isChecked()) !== start) await box.click();
   await form.getByRole('button', { name: 'Create' }).click();
@@ -71,12 +77,15 @@ try {
     await page.getByText('No co-simulation yet').waitFor();
   });
   await step('2-batch', async () => {
-    // The zip is uploaded, the co-simulation made and started at once; batch runs to the end.
-    await create(env('E2E_ZIP'), 'msd-ui', true);
+    // The zip is uploaded, the co-simulation made and started at once; batch runs to the end,
+    // its rows into the twin's history.
+    await create(env('E2E_ZIP'), 'msd-ui', true, env('E2E_TWIN'));
     await page.getByRole('heading', { name: /^msd-ui/ }).waitFor();
     await state().getByText('finished', { exact: true }).waitFor({ timeout: 120000 });
     await page.getByText('100%', { exact: false }).first().waitFor();
     if ((await progress()) !== 1) throw new Error(`progress ${await progress()} after the end`);
+    const twin = page.getByRole('link', { name: env('E2E_TWIN'), exact: true });
+    if ((await twin.getAttribute('href')) !== `/app/twins/${env('E2E_TWIN')}/history`) throw new Error('no link to the twin\'s history');
   });
   await step('3-graph', async () => {
     // The pair: the mass gives the spring x1 and v1, the spring gives the mass fk back (a cycle,
