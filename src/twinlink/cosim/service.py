@@ -20,7 +20,8 @@ import secrets
 import shutil
 import time
 from collections.abc import AsyncIterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any, cast
 
@@ -70,8 +71,8 @@ class CosimSettings:
 @dataclass(slots=True)
 class _Running:
     record: CosimRecord
-    job: CosimJob
     output: HistoryOutput | None
+    job: CosimJob = field(init=False)
     task: asyncio.Task[None] | None = None
     saved_at: float = 0.0
 
@@ -286,12 +287,10 @@ class CosimService:
             fmu_paths={ref: folder / f["path"] for ref, f in record.fmus.items()}, csv=csv,
             mode=cast(Mode, record.mode), factor=record.factor, stream=output is not None,
         )  # fmt: skip
-        running = _Running(record, CosimJob(spec, on_columns=lambda c: None,
-                                            on_progress=lambda f, t: None,
-                                            on_rows=lambda r: None), output)  # fmt: skip
-        running.job.on_columns = lambda columns: self._columns(running, columns)
-        running.job.on_progress = lambda f, t: self._progress(running, f, t)
-        running.job.on_rows = lambda rows: self._rows(running, rows)
+        running = _Running(record, output)
+        running.job = CosimJob(spec, on_columns=partial(self._columns, running),
+                               on_progress=partial(self._progress, running),
+                               on_rows=partial(self._rows, running))  # fmt: skip
         await self.store.save_cosim(record)
         self._running[record.id] = running
         await running.job.start()
@@ -327,7 +326,8 @@ class CosimService:
         now = time.monotonic()
         if now - running.saved_at >= SAVE_EVERY_S:
             running.saved_at = now
-            await self.store.save_cosim(running.record)
+            with contextlib.suppress(TwinlinkError):  # saved again at its end
+                await self.store.save_cosim(running.record)
 
     async def _rows(self, running: _Running, rows: Rows) -> None:
         running.record.rows += len(rows)
