@@ -20,7 +20,21 @@ function loadUplot(): Promise<typeof uPlot> {
   return uplotClass;
 }
 
-export function resultOptions(columns: string[], size: { width: number; height: number }): uPlot.Options {
+/** Whether the x axis shows less than the whole of the data: the user zoomed in. */
+export function isZoomed(u: Pick<uPlot, "scales" | "data">): boolean {
+  const times = u.data[0] ?? [];
+  const [first, last] = [times[0], times[times.length - 1]];
+  const { min, max } = u.scales.x ?? {};
+  if (first == null || last == null || min == null || max == null) return false;
+  const slack = (last - first) * 1e-9;
+  return min > first + slack || max < last - slack;
+}
+
+export function resultOptions(
+  columns: string[],
+  size: { width: number; height: number },
+  zoomed: { current: boolean } = { current: false },
+): uPlot.Options {
   return {
     ...size,
     series: [
@@ -37,6 +51,9 @@ export function resultOptions(columns: string[], size: { width: number; height: 
     scales: { x: { time: false } },
     axes: [{ label: "simulated time (s)", labelSize: 20 }, { size: 60 }],
     cursor: { drag: { x: true, y: false } },
+    // Dragging zooms in, a double-click zooms out (uPlot's own); new data while it runs then
+    // keeps the zoom the user chose instead of jumping back to the whole run.
+    hooks: { setScale: [(u, key) => void (key === "x" && (zoomed.current = isZoomed(u)))] },
   };
 }
 
@@ -48,6 +65,7 @@ interface Props {
 export function ResultsChart({ results, height = 320 }: Props) {
   const box = useRef<HTMLDivElement>(null);
   const chart = useRef<uPlot | null>(null);
+  const zoomed = useRef(false);
   const latest = useRef(results);
   latest.current = results;
   const columnsKey = results.columns.join("\n");
@@ -60,7 +78,8 @@ export function ResultsChart({ results, height = 320 }: Props) {
     void loadUplot().then((UPlot) => {
       if (cancelled) return;
       const size = { width: Math.max(200, el.clientWidth || 800), height };
-      const u = new UPlot(resultOptions(latest.current.columns, size), latest.current.data as uPlot.AlignedData, el);
+      zoomed.current = false;
+      const u = new UPlot(resultOptions(latest.current.columns, size, zoomed), latest.current.data as uPlot.AlignedData, el);
       chart.current = u;
       observer = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => {
         const w = el.clientWidth;
@@ -77,7 +96,7 @@ export function ResultsChart({ results, height = 320 }: Props) {
   }, [columnsKey, height]);
 
   useEffect(() => {
-    chart.current?.setData(results.data as uPlot.AlignedData);
+    chart.current?.setData(results.data as uPlot.AlignedData, !zoomed.current);
   }, [results]);
 
   const points = results.data[0]?.length ?? 0;
