@@ -391,6 +391,22 @@ async def test_a_stopped_run_with_an_isolated_instance_stops_and_leaves_no_proce
     assert np.array_equal(rows, seen.rows)
 
 
+async def test_what_the_run_did_not_do_as_the_file_asked_is_in_its_message(
+    tmp_path: Path, fmus: dict[str, Path]
+) -> None:
+    # status.fmu cannot save its state: the var-step master cannot reject a step.
+    doc = document(tmp_path, end=1.0, extra="bad: status.fmu", x1_to="bad.u")
+    doc.write_text(
+        doc.read_text().replace(
+            "type: fixed-step\n", "type: var-step\n  min_size: 0.001\n  max_size: 0.1\n"
+        )
+    )
+    end, message, seen = await run_job(spec_of(doc, fmus))
+    assert end == "finished"
+    assert message.startswith(f"{len(seen.rows) - 1} steps in ")
+    assert "; not every instance can save and restore its state" in message
+
+
 async def test_a_document_that_cannot_be_read_fails_the_run_saying_where(
     tmp_path: Path, fmus: dict[str, Path]
 ) -> None:

@@ -173,9 +173,12 @@ def run(spec: JobSpec, stop: threading.Event, out: Output) -> tuple[End, str]:
                 finished = _step(session, spec, stop, rows.add)
             finally:
                 rows.flush(last=True)  # what was computed is kept, whatever happened
+    # What the run did not do as the file asked (a var-step constraint, a step kept over
+    # its tolerance), once each, after how it ended.
+    notes = "".join(f"; {note}" for note in dict.fromkeys(session.warnings))
     if not finished:
-        return "stopped", f"stopped at t = {session.time:g} s"
-    return "finished", session.ended or finished
+        return "stopped", f"stopped at t = {session.time:g} s{notes}"
+    return "finished", f"{session.ended or finished}{notes}"
 
 
 def _step(
