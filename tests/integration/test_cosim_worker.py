@@ -181,6 +181,28 @@ def test_the_worker_speaks_json_lines_columns_first_and_the_end_last(
     assert len(rows) == 201
 
 
+@pytest.mark.parametrize(
+    ("job", "why"),
+    [
+        (b"{not json", "unexpected character"),
+        (b'{"format": "yaml"}', "it has no 'document'"),
+        (b'{"document": "d", "format": "x", "fmu_paths": {}, "csv": "c"}', "format must be"),
+        (
+            b'{"document": "d", "format": "yaml", "fmu_paths": {}, "csv": "c", "factor": -1}',
+            "the real-time factor must be a positive number, not -1",
+        ),
+    ],
+)
+def test_a_job_that_cannot_be_read_is_a_failed_run(tmp_path: Path, job: bytes, why: str) -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "twinlink.cosim.worker"], input=job, capture_output=True,
+        env=worker_environment(tmp_path), cwd=tmp_path, timeout=120, check=True,
+    )  # fmt: skip
+    (line,) = [orjson.loads(line) for line in done.stdout.splitlines()]
+    assert line["end"] == "failed"
+    assert line["message"].startswith("the job cannot be read: ") and why in line["message"]
+
+
 # The worker, with the run printing on file descriptor 1 as an FMU's printf would.
 NOISY_WORKER = """
 import os, sys

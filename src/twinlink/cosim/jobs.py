@@ -18,6 +18,7 @@ import asyncio
 import contextlib
 import inspect
 import logging
+import math
 import os
 import signal
 import sys
@@ -83,13 +84,16 @@ class JobSpec:
             raise ValueError(f"format must be maestro, ssp or yaml, not {raw.get('format')!r}")
         if raw.get("mode", "batch") not in ("batch", "realtime"):
             raise ValueError(f"mode must be batch or realtime, not {raw.get('mode')!r}")
+        factor = float(raw.get("factor", 1.0))
+        if not (math.isfinite(factor) and factor > 0):
+            raise ValueError(f"the real-time factor must be a positive number, not {factor:g}")
         return cls(
             document=Path(raw["document"]),
             format=raw["format"],
             fmu_paths={str(ref): Path(path) for ref, path in raw["fmu_paths"].items()},
             csv=Path(raw["csv"]),
             mode=raw.get("mode", "batch"),
-            factor=float(raw.get("factor", 1.0)),
+            factor=factor,
             stream=bool(raw.get("stream", True)),
             batch_ms=int(raw.get("batch_ms", 50)),
         )

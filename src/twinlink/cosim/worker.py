@@ -230,6 +230,11 @@ def main() -> int:
     out = Output(_own_stdout(), stop)
     try:
         spec = JobSpec.from_json(sys.stdin.buffer.read())
+    except (ValueError, KeyError, TypeError) as err:  # orjson's errors are ValueErrors
+        why = f"it has no {err.args[0]!r}" if isinstance(err, KeyError) else str(err)
+        out.send({"end": "failed", "message": f"the job cannot be read: {why}"})
+        return 0
+    try:
         end, message = run(spec, stop, out)
     except TwinlinkError as err:  # InvalidInputError, CosimFormatError, CosimRunError
         end, message = "failed", str(err)
