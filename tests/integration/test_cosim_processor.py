@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 from tests.conftest import FmuFiles, Server, stop_server
+from tests.integration._fmu_types import build_echo_fmu
 from tests.integration._live import TIMEOUT_S, device_twin
 from tests.integration._processors import (
     T0,
@@ -408,3 +409,66 @@ def test_a_var_step_co_simulation_steps_up_to_each_batch_and_follows_the_data(
     assert np.max(np.abs(x2 - np.interp(t, reference["time"], reference["s2.x2"]))) < 0.02
     view = wait_for(server, slug, "var", lambda p: p["stats"]["samples_out"] == len(got))
     assert view["state"] == "running" and view["last_error"] is None
+
+
+# (FMI version, the echo FMU's inputs used, the samples, the values that reach the FMU, the
+# inputs some sample has out of range: samples 1 and 2, skipped with out_of_range "reject")
+ECHO_CASES = [
+    (2, ["x", "n", "b"],
+     [[0.5, 2.6, 0.2], [1.5, 9.0, 0.0], [2.5, -7.0, 1.0], [3.5, 1.0, 0.0], [4.5, 0.0, 1.0]],
+     [[0.5, 3, 1], [1.5, 5, 0], [2.5, -5, 1], [3.5, 1, 0], [4.5, 0, 1]],
+     {"n"}),
+    (3, ["f32", "u8", "i32"],
+     [[0.25, 3.0, 2.6], [-1.5, 300.0, 9.0], [2.0, -4.0, -7.0], [3.0, 7.4, 0.0], [0.0, 0.0, 0.0]],
+     [[0.25, 3, 3], [-1.5, 255, 5], [2.0, 0, -5], [3.0, 7, 0], [0.0, 0, 0]],
+     {"u8", "i32"}),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("mode", ["clamp", "reject"])
+@pytest.mark.parametrize(("version", "names", "samples", "came", "out"), ECHO_CASES)
+def test_typed_inputs_are_rounded_and_kept_in_range_as_in_the_fmu_processor(
+    tmpdir_server: tuple[Server, Path],
+    tmp_path: Path,
+    version: int,
+    names: list[str],
+    samples: list[list[float]],
+    came: list[list[float]],
+    out: set[str],
+    mode: str,
+) -> None:
+    """The echo FMU (tests/integration/_fmu_types.py) outputs its inputs as they were set:
+    integers rounded, Booleans nonzero, values outside the declared or type's range clamped
+    (or the sample skipped), as the FMU processor's out_of_range. The step from t_k uses the
+    samples up to t_k, so the row at t_k+1 echoes them (the first row, after
+    initialization, sample 0)."""
+    server, _ = tmpdir_server
+    slug, [device] = device_twin(server)
+    fmu = f"echo{'' if version == 2 else '3'}.fmu"
+    upload(server, slug, build_echo_fmu(tmp_path, version), fmu)
+    system = {"instances": {"echo": fmu}, "algorithm": {"type": "fixed-step", "size": 0.1}}
+    params = {"system": system, "out_of_range": mode,
+              "inputs": {f"s_{n}": f"echo.{n}" for n in names},
+              "outputs": {n: f"echo.{n}_out" for n in names}}  # fmt: skip
+    r = create(server, slug, {"name": "echo", "blueprint": "cosim", "params": params})
+    assert r.status_code == 201, r.text
+    wait_for(server, slug, "echo", lambda p: p["state"] == "running")
+    rows = [
+        {
+            "time": T0 + k * 100_000_000,
+            "values": {f"s_{n}": v for n, v in zip(names, row, strict=True)},
+        }
+        for k, row in enumerate(samples)
+    ]
+    with watching(server, slug, "echo") as ws:
+        with server.client(device) as c:
+            r = c.post("/api/v1/device/samples", json={"seq": 1, "samples": rows})
+        assert r.status_code == 200, r.text
+        got = samples_until(ws, lambda s: len(s) >= len(samples))
+    kept = [0, 3, 4] if mode == "reject" else range(len(samples))
+    held = [max(k for k in kept if k <= max(0, j - 1)) for j in range(len(samples))]
+    assert [s["time"] for s in got] == [T0 + k * 100_000_000 for k in range(len(samples))]
+    assert [[s["values"][n] for n in names] for s in got] == [came[k] for k in held]
+    kind = "input_clamped" if mode == "clamp" else "input_rejected"
+    reported = {e["data"]["input"] for e in events(server, slug, "echo", kind)}
+    assert reported == {f"echo.{n}" for n in out}

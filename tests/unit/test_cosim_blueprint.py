@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from twinlink.cosim.blueprint import CosimBlueprint, CosimParams, _held, checked_system, logged
+from twinlink.cosim.blueprint import CosimBlueprint, CosimParams, _typed, checked_system, logged
 from twinlink.cosim.model import Port
 from twinlink.processors.blueprint import BlueprintError
 
@@ -53,9 +53,8 @@ def test_the_outputs_are_recorded_once_beside_the_logged_variables() -> None:
     assert logged(system, list(outputs.values())).log_variables == {"plant": ("y", "u")}
 
 
-def test_an_input_holds_its_latest_value_across_samples_and_batches() -> None:
+def test_integer_and_boolean_inputs_are_rounded_as_the_fmu_blueprint_sets_them() -> None:
     nan = np.nan
-    u = np.array([[nan, 1.0], [2.0, nan], [nan, nan], [3.0, 4.0]])
-    held = _held(u, np.array([nan, 0.5]))
-    np.testing.assert_array_equal(held, [[nan, 1.0], [2.0, 1.0], [2.0, 1.0], [3.0, 4.0]])
-    assert _held(np.empty((2, 0)), np.empty(0)).shape == (2, 0)
+    u = np.array([[0.4, 2.6, -0.2, nan], [nan, -2.5, 0.0, 1.5]])
+    _typed(u, ["Boolean", "Int8", "Real", "Enumeration"])
+    np.testing.assert_array_equal(u, [[1.0, 3.0, -0.2, nan], [nan, -2.0, 0.0, 2.0]])

@@ -24,7 +24,7 @@ import math
 import re
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -33,6 +33,8 @@ from pydantic import Field, field_validator
 from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.samples import SIGNAL_NAME
 from twinlink.processors.blueprint import Batch, Blueprint, BlueprintError, Context, Params
+from twinlink.processors.blueprints._fmu_io import InputGuard
+from twinlink.processors.fmuinfo import FLOAT_TYPES, FmuError, FmuInfo, FmuVariable, inspect_fmu
 
 from .model import Port, System
 from .results import column_name
@@ -58,6 +60,11 @@ class CosimParams(Params):
     outputs: dict[str, str] = Field(
         description="output signal -> the FMU variable it carries, instance.variable; one "
         "sample per communication point."
+    )
+    out_of_range: Literal["clamp", "reject"] = Field(
+        "clamp",
+        description="Input values outside the FMU input's declared min/max (or its type's "
+        "range): clamp, or skip the sample.",
     )
 
     @field_validator("inputs", "outputs")
@@ -146,6 +153,8 @@ class CosimBlueprint(Blueprint[CosimParams]):
         self._system, self._in, self._out = checked_system(params)
         self._session: Session | None = None
         self._feed: _Feed | None = None
+        self._guard: InputGuard | None = None
+        self._types: list[str] = []
 
     @classmethod
     def check(cls, params: Any) -> None:
@@ -189,8 +198,15 @@ class CosimBlueprint(Blueprint[CosimParams]):
             "inputs": {s: str(p) for s, p in self._in.items()},
             "outputs": {s: str(p) for s, p in self._out.items()},
         }
-        if self._session is not None and self._feed is not None:
-            d["state"] = {"time_s": self._session.time, "steps": self._session.steps}
+        session, guard = self._session, self._guard
+        if session is not None and guard is not None:
+            counts = dict(zip(guard.names, guard.counts, strict=True))
+            d["state"] = {
+                "time_s": session.time,
+                "steps": session.steps,
+                "clamped" if self.params.out_of_range == "clamp" else "rejected": counts,
+                "skipped_samples": guard.skipped,
+            }
         return d
 
     def start(self) -> None:
@@ -202,6 +218,7 @@ class CosimBlueprint(Blueprint[CosimParams]):
                 + ", ".join(f"{i.fmu!r} (instance {i.name})" for i in missing)
                 + "; upload it first (PUT /api/v1/twins/{twin}/fmus/{name})"
             )
+        variables, fmi3 = self._typed_inputs(files)
         system = logged(self._system, list(self._out.values()))
         paths = {i.fmu: files / i.fmu for i in system.instances}
         ports = list(dict.fromkeys(self._in.values()))
@@ -218,21 +235,45 @@ class CosimBlueprint(Blueprint[CosimParams]):
             self.stop()
             raise BlueprintError(f"an output is not recorded: {err}") from err
         self._feed = _Feed(session, system, list(self._in.values()), columns)
+        # As the FMU blueprint's inputs: clamped (or the sample rejected) to the variable's
+        # range, reported as events; NaN holds (before a first value: the start value).
+        held = [math.nan] * len(variables)
+        self._guard = InputGuard(variables, held, self.params.out_of_range, self.ctx, fmi3)
+        self._types = [v.type for v in variables]
+
+    def _typed_inputs(self, files: Path) -> tuple[list[FmuVariable], bool]:
+        """Each input's FMU variable, named by its port (for events), and whether all their
+        FMUs are FMI 3 (an Enumeration without items then ranges over Int64)."""
+        fmus = {i.name: i.fmu for i in self._system.instances}
+        infos: dict[str, FmuInfo] = {}
+        variables = []
+        for signal, port in self._in.items():
+            fmu = fmus[port.instance]
+            if fmu not in infos:
+                try:
+                    infos[fmu] = inspect_fmu(files / fmu)
+                except FmuError as err:
+                    raise BlueprintError(f"{fmu} (instance {port.instance}): {err}") from err
+            found = [v for v in infos[fmu].variables if v.name == port.variable]
+            if not found:
+                raise BlueprintError(f"inputs.{signal}: {fmu} has no variable {port.variable!r}")
+            variables.append(dataclasses.replace(found[0], name=str(port)))
+        fmi3 = bool(infos) and all(i.fmi_version.startswith("3") for i in infos.values())
+        return variables, fmi3
 
     def process(self, batch: Batch) -> Batch | None:
-        feed, session = self._feed, self._session
-        if feed is None or session is None:
+        feed, session, guard = self._feed, self._session, self._guard
+        if feed is None or session is None or guard is None:
             raise BlueprintError("the co-simulation is not started")
-        if not len(batch):
-            return None
         times = batch.times
         if len(times) > 1 and bool(np.any(times[1:] < times[:-1])):
             batch = batch.take(np.argsort(times, kind="stable"))
-        nan = np.full(len(batch), np.nan)
-        columns = [batch.columns.get(s, nan) for s in self._in]
-        u = np.column_stack(columns) if columns else np.empty((len(batch), 0))
+        times, u = guard.condition(batch.times, [batch.columns.get(s) for s in self._in])
+        if not len(times):
+            return None
+        _typed(u, self._types)
         try:
-            times, rows = feed.run(batch.times, u)
+            times, rows = feed.run(times, u)
         except TwinlinkError as err:  # a failed FMU: this worker cannot go on with it
             raise BlueprintError(str(err)) from err
         if feed.ended:
@@ -242,7 +283,7 @@ class CosimBlueprint(Blueprint[CosimParams]):
         return Batch(times, {s: rows[:, c] for s, c in zip(self._out, feed.columns, strict=True)})
 
     def stop(self) -> None:
-        session, self._session, self._feed = self._session, None, None
+        session, self._session, self._feed, self._guard = self._session, None, None, None
         if session is not None:
             session.close()
 
@@ -264,17 +305,16 @@ class _Feed:
         self.h = algorithm.size
         self.tol = 1e-9 * (algorithm.min_size or algorithm.size)
         self.t0_ns: int | None = None
-        self.held = np.full(len(ports), np.nan)  # each input's latest value (NaN: none yet)
+        self.held = [math.nan] * len(ports)  # the inputs after the last batch (NaN: none yet)
         self.sent: tuple[float, ...] | None = None  # the values last set
         self.ended = ""  # why the co-simulation ended: the processor then finishes
 
     def run(
         self, times: npt.NDArray[np.int64], u: npt.NDArray[np.float64]
     ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]:
-        """Step up to the last of `times` (sorted), `u` the inputs per sample (NaN: no value
-        in that sample); the times (ns) and rows of the communication points reached."""
-        filled = _held(u, self.held)
-        values = filled.tolist()
+        """Step up to the last of `times` (sorted), `u` the inputs held at each sample (NaN:
+        no value yet); the times (ns) and rows of the communication points reached."""
+        values = u.tolist()
         rows: list[npt.NDArray[np.float64]] = []
         if self.t0_ns is None:
             self.t0_ns = int(times[0])
@@ -283,7 +323,7 @@ class _Feed:
             rows.append(self.session.initialize())
         else:
             r = ((times - self.t0_ns) * 1e-9).tolist()
-        before = self.held.tolist()
+        before = self.held
         while not self.ended and self._due(r[-1]):
             s = self.session.time - self.start
             if self.fixed:  # the samples up to this step's end, as the FMU blueprint's grid
@@ -299,7 +339,7 @@ class _Feed:
                 raise BlueprintError(f"the co-simulation did not advance from t = {s:g} s")
             rows.append(row)
             self._end_if_done()
-        self.held = filled[-1].copy()
+        self.held = values[-1]
         if not rows:
             return np.empty(0, np.int64), np.empty((0, len(self.session.columns)))
         table = np.vstack(rows)
@@ -334,11 +374,12 @@ class _Feed:
             self.ended = f"the co-simulation reached its end time t = {self.end:g} s"
 
 
-def _held(u: npt.NDArray[np.float64], held: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """`u` with each NaN replaced by the latest value before it in its column (`held` the
-    values before the first row; NaN where there is none yet)."""
-    ext = np.vstack([held[None, :], u])
-    n, m = ext.shape
-    index = np.where(np.isnan(ext), 0, np.arange(n)[:, None])
-    np.maximum.accumulate(index, axis=0, out=index)
-    return ext[index, np.arange(m)][1:]
+def _typed(u: npt.NDArray[np.float64], types: Sequence[str]) -> None:
+    """Round the values of integer and Enumeration inputs in place, and make a Boolean's
+    nonzero values 1 (as the FMU blueprint sets them); NaN (no value yet) stays."""
+    for j, kind in enumerate(types):
+        column = u[:, j]
+        if kind == "Boolean":
+            column[(column != 0) & ~np.isnan(column)] = 1.0
+        elif kind not in FLOAT_TYPES:
+            np.rint(column, out=column)
