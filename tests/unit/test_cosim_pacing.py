@@ -5,6 +5,8 @@ wait, and the lateness percentiles. No assertion here depends on the real clock.
 
 from __future__ import annotations
 
+import ctypes
+import sys
 import threading
 
 import numpy as np
@@ -196,6 +198,21 @@ def test_a_factor_that_is_not_a_positive_number_is_refused(factor: float) -> Non
     clock = FakeClock()
     with pytest.raises(ValueError, match="real-time factor must be a positive number"):
         run_paced(FakeSession(clock, 0.001, 3.0), factor, threading.Event(), lambda r: None)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="timer slack is Linux's")
+def test_the_timer_slack_is_fine_while_pacing_and_given_back_after() -> None:
+    prctl = ctypes.CDLL(None, use_errno=True).prctl
+    before = prctl(30, 0, 0, 0, 0)  # PR_GET_TIMERSLACK
+    clock = FakeClock()
+    session = FakeSession(clock, h=0.001, end=2.003)
+    seen: list[int] = []
+    run_paced(
+        session, 1.0, threading.Event(), lambda row: seen.append(prctl(30, 0, 0, 0, 0)),
+        clock=clock, sleep=clock.sleep,
+    )  # fmt: skip
+    assert seen == [1000, 1000, 1000]  # ns
+    assert prctl(30, 0, 0, 0, 0) == before
 
 
 def test_lateness_percentiles_by_nearest_rank() -> None:
