@@ -8,7 +8,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from twinlink.cosim.blueprint import CosimBlueprint, CosimParams, _typed, checked_system, logged
+from twinlink.cosim._livefeed import typed
+from twinlink.cosim.blueprint import CosimBlueprint, CosimParams, checked_system, logged
 from twinlink.cosim.model import Port
 from twinlink.processors.blueprint import BlueprintError
 
@@ -56,5 +57,5 @@ def test_the_outputs_are_recorded_once_beside_the_logged_variables() -> None:
 def test_integer_and_boolean_inputs_are_rounded_as_the_fmu_blueprint_sets_them() -> None:
     nan = np.nan
     u = np.array([[0.4, 2.6, -0.2, nan], [nan, -2.5, 0.0, 1.5]])
-    _typed(u, ["Boolean", "Int8", "Real", "Enumeration"])
+    typed(u, ["Boolean", "Int8", "Real", "Enumeration"])
     np.testing.assert_array_equal(u, [[1.0, 3.0, -0.2, nan], [nan, -2.0, 0.0, 2.0]])

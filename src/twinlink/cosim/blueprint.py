@@ -18,7 +18,6 @@ which the supervisor restarts from a fresh Session (time 0 again at the next sam
 
 from __future__ import annotations
 
-import bisect
 import dataclasses
 import math
 import re
@@ -27,15 +26,15 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-import numpy.typing as npt
 from pydantic import Field, field_validator
 
 from twinlink.domain.errors import TwinlinkError
 from twinlink.domain.samples import SIGNAL_NAME
 from twinlink.processors.blueprint import Batch, Blueprint, BlueprintError, Context, Params
 from twinlink.processors.blueprints._fmu_io import InputGuard
-from twinlink.processors.fmuinfo import FLOAT_TYPES, FmuError, FmuInfo, FmuVariable, inspect_fmu
+from twinlink.processors.fmuinfo import FmuError, FmuInfo, FmuVariable, inspect_fmu
 
+from ._livefeed import Feed, typed
 from .model import Port, System
 from .results import column_name
 from .session import Session
@@ -152,7 +151,7 @@ class CosimBlueprint(Blueprint[CosimParams]):
         super().__init__(params, ctx)
         self._system, self._in, self._out = checked_system(params)
         self._session: Session | None = None
-        self._feed: _Feed | None = None
+        self._feed: Feed | None = None
         self._guard: InputGuard | None = None
         self._types: list[str] = []
 
@@ -225,6 +224,7 @@ class CosimBlueprint(Blueprint[CosimParams]):
         try:
             # In the worker's workdir, which each start empties: a killed worker's
             # extracted FMUs do not pile up.
+            Path(self.ctx.workdir).mkdir(parents=True, exist_ok=True)
             session = Session(system, paths, external_inputs=ports, workdir=self.ctx.workdir)
         except TwinlinkError as err:
             raise BlueprintError(f"the co-simulation cannot start: {err}") from err
@@ -234,7 +234,7 @@ class CosimBlueprint(Blueprint[CosimParams]):
         except ValueError as err:  # not reached: `logged` records every output
             self.stop()
             raise BlueprintError(f"an output is not recorded: {err}") from err
-        self._feed = _Feed(session, system, list(self._in.values()), columns)
+        self._feed = Feed(session, system, list(self._in.values()), columns)
         # As the FMU blueprint's inputs: clamped (or the sample rejected) to the variable's
         # range, reported as events; NaN holds (before a first value: the start value).
         held = [math.nan] * len(variables)
@@ -271,7 +271,7 @@ class CosimBlueprint(Blueprint[CosimParams]):
         times, u = guard.condition(batch.times, [batch.columns.get(s) for s in self._in])
         if not len(times):
             return None
-        _typed(u, self._types)
+        typed(u, self._types)
         try:
             times, rows = feed.run(times, u)
         except TwinlinkError as err:  # a failed FMU: this worker cannot go on with it
@@ -286,100 +286,3 @@ class CosimBlueprint(Blueprint[CosimParams]):
         session, self._session, self._feed, self._guard = self._session, None, None, None
         if session is not None:
             session.close()
-
-
-class _Feed:
-    """Steps a Session on live samples: the held inputs, the grid, time 0 at the first
-    sample. Python work is per step (as the Session's is), not per sample and signal."""
-
-    def __init__(
-        self, session: Session, system: System, ports: list[Port], columns: list[int]
-    ) -> None:
-        self.session = session
-        self.ports = ports
-        self.columns = columns
-        self.start = system.start_time
-        self.end = system.end_time
-        algorithm = system.algorithm
-        self.fixed = algorithm.kind == "fixed-step"
-        self.h = algorithm.size
-        self.tol = 1e-9 * (algorithm.min_size or algorithm.size)
-        self.t0_ns: int | None = None
-        self.held = [math.nan] * len(ports)  # the inputs after the last batch (NaN: none yet)
-        self.sent: tuple[float, ...] | None = None  # the values last set
-        self.ended = ""  # why the co-simulation ended: the processor then finishes
-
-    def run(
-        self, times: npt.NDArray[np.int64], u: npt.NDArray[np.float64]
-    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]:
-        """Step up to the last of `times` (sorted), `u` the inputs held at each sample (NaN:
-        no value yet); the times (ns) and rows of the communication points reached."""
-        values = u.tolist()
-        rows: list[npt.NDArray[np.float64]] = []
-        if self.t0_ns is None:
-            self.t0_ns = int(times[0])
-            r = ((times - self.t0_ns) * 1e-9).tolist()
-            self._set(values[bisect.bisect_right(r, self.tol) - 1])
-            rows.append(self.session.initialize())
-        else:
-            r = ((times - self.t0_ns) * 1e-9).tolist()
-        before = self.held
-        while not self.ended and self._due(r[-1]):
-            s = self.session.time - self.start
-            if self.fixed:  # the samples up to this step's end, as the FMU blueprint's grid
-                k = bisect.bisect_left(r, s + self.h - self.tol) - 1
-            else:  # a step of unknown length: the samples up to its start
-                k = bisect.bisect_right(r, s + self.tol) - 1
-            self._set(values[k] if k >= 0 else before)
-            row = self.session.step()
-            if row is None:
-                self._end()
-                break
-            if not self.session.time > s + self.start:  # it would never catch up
-                raise BlueprintError(f"the co-simulation did not advance from t = {s:g} s")
-            rows.append(row)
-            self._end_if_done()
-        self.held = values[-1]
-        if not rows:
-            return np.empty(0, np.int64), np.empty((0, len(self.session.columns)))
-        table = np.vstack(rows)
-        out = self.t0_ns + np.rint((table[:, 0] - self.start) * 1e9).astype(np.int64)
-        return out, table
-
-    def _due(self, last: float) -> bool:
-        """Whether the next step ends no later than the last sample (var-step: starts
-        before it, its end unknown until taken)."""
-        s = self.session.time - self.start
-        return s + self.h <= last + self.tol if self.fixed else s < last - self.tol
-
-    def _set(self, values: Sequence[float]) -> None:
-        key = tuple(values)
-        if key == self.sent:
-            return
-        self.session.set_inputs(
-            {p: v for p, v in zip(self.ports, values, strict=True) if not math.isnan(v)}
-        )
-        self.sent = key
-
-    def _end_if_done(self) -> None:
-        if self.session.ended or (
-            self.end is not None and self.session.time >= self.end - self.tol
-        ):
-            self._end()
-
-    def _end(self) -> None:
-        if self.session.ended:
-            self.ended = f"the co-simulation ended: {self.session.ended}"
-        else:
-            self.ended = f"the co-simulation reached its end time t = {self.end:g} s"
-
-
-def _typed(u: npt.NDArray[np.float64], types: Sequence[str]) -> None:
-    """Round the values of integer and Enumeration inputs in place, and make a Boolean's
-    nonzero values 1 (as the FMU blueprint sets them); NaN (no value yet) stays."""
-    for j, kind in enumerate(types):
-        column = u[:, j]
-        if kind == "Boolean":
-            column[(column != 0) & ~np.isnan(column)] = 1.0
-        elif kind not in FLOAT_TYPES:
-            np.rint(column, out=column)
