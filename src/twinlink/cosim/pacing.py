@@ -139,7 +139,9 @@ def run_paced(
     caller initializes the session and handles the row at the start time itself.
 
     Sleeps never wait on `stop` (a signal handler may set it; Event.wait holds the lock
-    Event.set takes): long waits sleep in pieces and look at it between them. `clock` and
+    Event.set takes): long waits sleep in pieces and look at it between them. Another
+    Python thread busy in the same process delays a step by up to the interpreter's switch
+    interval (5 ms) when it holds the GIL at the deadline: the worker has none. `clock` and
     `sleep` are for tests."""
     if not (factor > 0 and math.isfinite(factor)):
         raise ValueError(f"the real-time factor must be a positive number, not {factor}")
