@@ -12,6 +12,17 @@ function pathPoints(path: string): [number, number][] {
   return Array.from({ length: n.length / 2 }, (_, i) => [n[2 * i] as number, n[2 * i + 1] as number]);
 }
 
+/** Whether an arc (an orthogonal route: its points are its corners and the ends of their
+ * rounding) goes through any box. */
+function crossesABox(layout: Layout, path: string): boolean {
+  const points = pathPoints(path);
+  return points.slice(1).some((q, i) => {
+    const p = points[i] as [number, number];
+    const [x0, x1, y0, y1] = [Math.min(p[0], q[0]), Math.max(p[0], q[0]), Math.min(p[1], q[1]), Math.max(p[1], q[1])];
+    return layout.boxes.some((b) => x1 > b.x + 0.5 && x0 < b.x + b.width - 0.5 && y1 > b.y + 0.5 && y0 < b.y + b.height - 0.5);
+  });
+}
+
 function overlaps(a: Box, b: Box): boolean {
   return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
 }
@@ -44,13 +55,17 @@ describe("layoutGraph", () => {
     expect(forward).toMatchObject({ kind: "forward", labels: ["x1", "v1"], text: "x1, v1", inLoop: false });
     const back = edge(layout, "msd2.m2", "msd1.m1");
     expect(back).toMatchObject({ kind: "back", labels: ["fk"], inLoop: false });
-    // From the spring's bottom, below both boxes, up into the mass's bottom.
+    // Out of the spring's left side, a U below the forward arrow in the gap between them,
+    // into the mass's right side; through no box.
     const points = pathPoints(back!.path);
-    const lowest = Math.max(mass.y + mass.height, spring.y + spring.height);
-    expect(points[0]).toEqual([spring.x + spring.width / 2 - 6, spring.y + spring.height]);
-    expect(points[3]).toEqual([mass.x + mass.width / 2 + 6, mass.y + mass.height]);
-    expect(points[1]![1]).toBeGreaterThan(lowest);
-    expect(layout.height).toBeGreaterThan(points[1]![1]);
+    const middle = mass.y + mass.height / 2;
+    expect(points[0]).toEqual([spring.x, middle + 8]);
+    expect(points.at(-1)).toEqual([mass.x + mass.width, middle + 8]);
+    const lowest = Math.max(...points.map((p) => p[1]));
+    expect(lowest).toBeGreaterThan(middle + 8);
+    expect(points.every((p) => p[0] >= mass.x + mass.width && p[0] <= spring.x)).toBe(true);
+    expect(crossesABox(layout, back!.path)).toBe(false);
+    expect(layout.height).toBeGreaterThan(lowest);
     // The forward arrow leaves the mass's right side and ends on the spring's left side.
     const fwd = pathPoints(forward!.path);
     expect(fwd[0]![0]).toBe(mass.x + mass.width);
@@ -84,10 +99,29 @@ describe("layoutGraph", () => {
     }
     // a -> d skips a column: drawn over the boxes, not through b or c.
     expect(layout.edges.filter((e) => e.kind !== "forward").map((e) => `${e.from}>${e.to}:${e.kind}`)).toEqual(["a>d:over"]);
-    const over = pathPoints(edge(layout, "a", "d")!.path);
-    expect(over[1]![1]).toBeLessThan(Math.min(...layout.boxes.map((x) => x.y)));
-    expect(over[1]![1]).toBeGreaterThan(0);
+    const over = edge(layout, "a", "d")!;
+    const peak = Math.min(...pathPoints(over.path).map((p) => p[1]));
+    expect(peak).toBeLessThan(Math.min(...layout.boxes.map((x) => x.y)));
+    expect(peak).toBeGreaterThan(0);
+    expect(crossesABox(layout, over.path)).toBe(false);
     expect(layout.width).toBeGreaterThan(Math.max(...layout.boxes.map((x) => x.x + x.width)));
+  });
+
+  it("routes arcs around the boxes of columns that hold several", () => {
+    // b and e share a column: arrows back out of b and into it, and arcs over from e, pass
+    // through neither.
+    const layout = layoutGraph({
+      instances: ["a", "b", "c", "d", "e"],
+      connections: [
+        conn("a.y", "b.u"), conn("b.y", "a.u"), conn("b.z", "c.u"), conn("a.w", "d.w"), conn("c.y", "d.v"),
+        conn("a.q", "e.q"), conn("e.r", "d.r"), conn("d.back", "b.back"),
+      ],
+      loops: [],
+    });
+    expect(box(layout, "b").layer).toBe(box(layout, "e").layer);
+    const arcs = layout.edges.filter((e) => e.kind === "back" || e.kind === "over");
+    expect(arcs.map((e) => `${e.from}>${e.to}`).sort()).toEqual(["a>d", "b>a", "d>b", "e>d"]);
+    for (const arc of arcs) expect(crossesABox(layout, arc.path), `${arc.from} > ${arc.to}`).toBe(false);
   });
 
   it("orders a column by where its feeders sit, so arrows do not cross", () => {
@@ -124,12 +158,12 @@ describe("layoutGraph", () => {
     const backs = layout.edges.filter((e) => e.kind === "back");
     expect(backs).toHaveLength(9);
     // Neighbours' arrows back share no stretch: one depth for all, just below the row.
-    const depths = backs.map((e) => pathPoints(e.path)[1]![1]);
+    const depths = backs.map((e) => Math.max(...pathPoints(e.path).map((p) => p[1])));
     expect(new Set(depths).size).toBe(1);
     expect(layout.height).toBeLessThan(box(layout, "m0").y + BOX_H + 100);
     // At each box the arrow in and the arrow out do not meet in one point.
     for (const name of chain.slice(1, -1)) {
-      const arriving = pathPoints(backs.find((e) => e.to === name)!.path)[3]!;
+      const arriving = pathPoints(backs.find((e) => e.to === name)!.path).at(-1)!;
       const leaving = pathPoints(backs.find((e) => e.from === name)!.path)[0]!;
       expect(arriving[0]).not.toBe(leaving[0]);
     }

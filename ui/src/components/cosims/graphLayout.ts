@@ -65,8 +65,17 @@ const COL_GAP_MIN = 110;
 const MARGIN = 24;
 const LABEL_MAX = 3;
 /** How far an arc (back below, over above) clears the boxes, and the step between levels. */
-const ARC_DEPTH = 34;
-const ARC_STEP = 22;
+const ARC_DEPTH = 26;
+const ARC_STEP = 18;
+/** How far a back arrow leaves and arrives below a box's middle, an arc over above it. */
+const BACK_DROP = 8;
+const OVER_RISE = 8;
+/** How far into the gap beside a box an arc turns (arcs below and above in lanes of their
+ * own, each level one lane further), and the radius of its turns. */
+const LEAD_BACK = 10;
+const LEAD_OVER = 18;
+const LANE = 6;
+const CORNER = 6;
 const SELF_RISE = 30;
 
 /** A port from the API: the longest instance name that prefixes it with a dot is the instance
@@ -234,12 +243,34 @@ function curve(p: number[][]): string {
   return `M ${a[0]} ${a[1]} C ${b[0]} ${b[1]}, ${c[0]} ${c[1]}, ${d[0]} ${d[1]}`;
 }
 
-type Kind = EdgeKind;
+type Point = [number, number];
+
+/** An orthogonal route through `points` (each turn rounded by a small quadratic corner). */
+function route(points: Point[], r = CORNER): string {
+  const [first, ...rest] = points as [Point, ...Point[]];
+  const parts = [`M ${first[0]} ${first[1]}`];
+  rest.forEach((p, i) => {
+    const next = rest[i + 1];
+    if (!next) {
+      parts.push(`L ${p[0]} ${p[1]}`);
+      return;
+    }
+    const prev = (i === 0 ? first : rest[i - 1]) as Point;
+    const toward = (from: Point, to: Point, d: number): Point => {
+      const len = Math.hypot(to[0] - from[0], to[1] - from[1]) || 1;
+      const k = Math.min(d, len / 2) / len;
+      return [from[0] + (to[0] - from[0]) * k, from[1] + (to[1] - from[1]) * k];
+    };
+    const [a, b] = [toward(p, prev, r), toward(p, next, r)];
+    parts.push(`L ${a[0]} ${a[1]}`, `Q ${p[0]} ${p[1]}, ${b[0]} ${b[1]}`);
+  });
+  return parts.join(" ");
+}
 
 /** How an edge is drawn: a self loop; back (closing a cycle: right to left, below); over (a
  * forward edge that skips columns: above the boxes, so that it does not cross those between);
  * forward (to the next column, straight across). */
-function kindOf(g: Grouped, layer: Map<string, number>, back: Set<string>): Kind {
+function kindOf(g: Grouped, layer: Map<string, number>, back: Set<string>): EdgeKind {
   if (g.from === g.to) return "self";
   if (back.has(edgeKey(g.from, g.to))) return "back";
   return (layer.get(g.to) ?? 0) - (layer.get(g.from) ?? 0) > 1 ? "over" : "forward";
@@ -264,6 +295,95 @@ export function arcLevels(spans: readonly [number, number][]): number[] {
   return levels;
 }
 
+/** An edge as the drawing needs it: its kind, the columns it spans, its arc's level. */
+interface Planned extends Grouped {
+  kind: EdgeKind;
+  span: [number, number];
+  level: number;
+}
+
+function planEdges(grouped: readonly Grouped[], layer: Map<string, number>, back: Set<string>): Planned[] {
+  const planned = grouped.map((g) => {
+    const [x, y] = [layer.get(g.from) ?? 0, layer.get(g.to) ?? 0];
+    return { ...g, kind: kindOf(g, layer, back), span: [Math.min(x, y), Math.max(x, y)] as [number, number], level: 0 };
+  });
+  // Arcs above (over) and below (back) each get levels of their own.
+  for (const kind of ["over", "back"] as const) {
+    const arcs = planned.filter((e) => e.kind === kind);
+    arcLevels(arcs.map((e) => e.span)).forEach((level, i) => ((arcs[i] as Planned).level = level));
+  }
+  return planned;
+}
+
+/** Each column's boxes one under another, centred on the tallest column, from `top`; each
+ * column as wide as its widest box, the gap after it wide enough for its arrows' labels.
+ * Answers the boxes and the right edge of the last column. */
+function placeBoxes(columns: string[][], edges: readonly Planned[], top: number, loopInstances: Set<string>): { boxes: Map<string, Box>; right: number } {
+  const boxWidth = (n: string) => Math.max(BOX_MIN_W, textWidth(n) + BOX_PAD);
+  const colWidth = columns.map((col) => Math.max(BOX_MIN_W, ...col.map(boxWidth)));
+  const gapAfter = columns.map((_, c) =>
+    Math.max(COL_GAP_MIN, ...edges.filter((e) => (e.kind === "forward" || e.kind === "back") && e.span[0] === c && e.span[1] === c + 1).map((e) => textWidth(labelText(e.labels)) + 30)),
+  );
+  const tallest = Math.max(1, ...columns.map((col) => col.length));
+  const boxes = new Map<string, Box>();
+  let x = MARGIN;
+  columns.forEach((col, c) => {
+    const y0 = top + ((tallest - col.length) * (BOX_H + ROW_GAP)) / 2;
+    col.forEach((name, i) => {
+      const width = boxWidth(name);
+      const y = y0 + i * (BOX_H + ROW_GAP);
+      boxes.set(name, { name, layer: c, x: x + ((colWidth[c] ?? width) - width) / 2, y, width, height: BOX_H, inLoop: loopInstances.has(name) });
+    });
+    x += (colWidth[c] ?? 0) + (c < columns.length - 1 ? (gapAfter[c] ?? COL_GAP_MIN) : 0);
+  });
+  return { boxes, right: x };
+}
+
+interface Shape {
+  path: string;
+  labelX: number;
+  labelY: number;
+}
+
+/** An edge's path and where its label goes. Arrows between neighbouring columns stay in the
+ * gap between them (no box is there): forward straight across, back as a U below. Longer arcs
+ * run in the gaps beside their ends and above (over) or below (back) every box of the columns
+ * they span (`inSpan`), so that none crosses a box. */
+function edgeShape(e: Planned, a: Box, b: Box, inSpan: Box[]): Shape {
+  const [ya, yb] = [a.y + a.height / 2, b.y + b.height / 2];
+  if (e.kind === "self") {
+    const right = a.x + a.width;
+    const points = [[right - 18, a.y], [right - 18, a.y - SELF_RISE], [right + 26, a.y - SELF_RISE], [right, a.y + 10]];
+    return { path: curve(points), labelX: midpoint(points)[0], labelY: a.y - SELF_RISE - 4 };
+  }
+  if (e.kind === "forward") {
+    const [x1, x2] = [a.x + a.width, b.x];
+    const pull = Math.max(30, (x2 - x1) / 2);
+    const points = [[x1, ya], [x1 + pull, ya], [x2 - pull, yb], [x2, yb]];
+    const [labelX, labelY] = midpoint(points);
+    return { path: curve(points), labelX, labelY: labelY - 8 };
+  }
+  const step = ARC_STEP * e.level;
+  if (e.kind === "back") {
+    // Out of the left side and into the right one, below the middle where forward arrows are.
+    const [x1, x2] = [a.x, b.x + b.width];
+    const [out, into] = [ya + BACK_DROP, yb + BACK_DROP];
+    const adjacent = e.span[1] - e.span[0] === 1;
+    const bottom = adjacent ? Math.max(out, into) + ARC_DEPTH + step : Math.max(...inSpan.map((c) => c.y + c.height)) + ARC_DEPTH + step;
+    const lead = LEAD_BACK + LANE * e.level;
+    const [gapA, gapB] = [x1 - lead, x2 + lead];
+    const path = route([[x1, out], [gapA, out], [gapA, bottom], [gapB, bottom], [gapB, into], [x2, into]]);
+    return { path, labelX: (gapA + gapB) / 2, labelY: bottom };
+  }
+  // over: out of the right side and into the left one, above every box between.
+  const [x1, x2] = [a.x + a.width, b.x];
+  const peak = Math.min(...inSpan.map((c) => c.y)) - ARC_DEPTH - step;
+  const lead = LEAD_OVER + LANE * e.level;
+  const [gapA, gapB] = [x1 + lead, x2 - lead];
+  const path = route([[x1, ya - OVER_RISE], [gapA, ya - OVER_RISE], [gapA, peak], [gapB, peak], [gapB, yb - OVER_RISE], [x2, yb - OVER_RISE]]);
+  return { path, labelX: (gapA + gapB) / 2, labelY: peak };
+}
+
 /** The whole drawing: boxes placed, every edge's path and label, and the size of it all. */
 export function layoutGraph(input: GraphInput): Layout {
   const names = [...new Set([...input.instances])];
@@ -271,89 +391,31 @@ export function layoutGraph(input: GraphInput): Layout {
   // An instance named only by a connection (not in the list) still gets its box.
   for (const e of grouped) for (const n of [e.from, e.to]) if (!names.includes(n)) names.push(n);
   const back = backEdges(names, grouped);
-  const forward = grouped.filter((e) => e.from !== e.to && !back.has(edgeKey(e.from, e.to)));
-  const layer = layers(names, forward);
+  const layer = layers(names, grouped.filter((e) => e.from !== e.to && !back.has(edgeKey(e.from, e.to))));
   const columns = orderColumns(names, layer, grouped);
+  const planned = planEdges(grouped, layer, back);
   const loopInstances = new Set(input.loops.flat().map((p) => splitPort(p, names).instance));
-  const kinds = grouped.map((g) => kindOf(g, layer, back));
-  const span = (g: Grouped): [number, number] => {
-    const [x, y] = [layer.get(g.from) ?? 0, layer.get(g.to) ?? 0];
-    return [Math.min(x, y), Math.max(x, y)];
-  };
-  // Arcs above (over) and below (back) each get levels of their own.
-  const levelOf = new Map<Grouped, number>();
-  for (const kind of ["over", "back"] as const) {
-    const arcs = grouped.filter((_, i) => kinds[i] === kind);
-    arcLevels(arcs.map(span)).forEach((level, i) => levelOf.set(arcs[i] as Grouped, level));
-  }
-  const overLevels = Math.max(0, ...grouped.filter((_, i) => kinds[i] === "over").map((g) => (levelOf.get(g) ?? 0) + 1));
 
-  // Columns as wide as their widest box, the gap after each wide enough for its labels.
-  const boxWidth = (n: string) => Math.max(BOX_MIN_W, textWidth(n) + BOX_PAD);
-  const colWidth = columns.map((col) => Math.max(BOX_MIN_W, ...col.map(boxWidth)));
-  const gapAfter = columns.map((_, c) =>
-    Math.max(COL_GAP_MIN, ...forward.filter((e) => layer.get(e.from) === c).map((e) => textWidth(labelText(e.labels)) + 30)),
-  );
-  const tallest = Math.max(1, ...columns.map((col) => col.length));
-  const columnsHeight = tallest * BOX_H + (tallest - 1) * ROW_GAP;
-  const selfRoom = kinds.includes("self") ? SELF_RISE + 14 : 0;
+  // Room above the boxes for self loops and the arcs over them.
+  const overLevels = Math.max(0, ...planned.filter((e) => e.kind === "over").map((e) => e.level + 1));
+  const selfRoom = planned.some((e) => e.kind === "self") ? SELF_RISE + 14 : 0;
   const overRoom = overLevels ? ARC_DEPTH + ARC_STEP * (overLevels - 1) + 12 : 0;
   const top = MARGIN + Math.max(selfRoom, overRoom);
-  const boxes = new Map<string, Box>();
-  let x = MARGIN;
-  columns.forEach((col, c) => {
-    const height = col.length * BOX_H + (col.length - 1) * ROW_GAP;
-    const y0 = top + (columnsHeight - height) / 2;
-    col.forEach((name, i) => {
-      const width = boxWidth(name);
-      boxes.set(name, {
-        name,
-        layer: c,
-        x: x + ((colWidth[c] ?? width) - width) / 2,
-        y: y0 + i * (BOX_H + ROW_GAP),
-        width,
-        height: BOX_H,
-        inLoop: loopInstances.has(name),
-      });
-    });
-    x += (colWidth[c] ?? 0) + (c < columns.length - 1 ? (gapAfter[c] ?? COL_GAP_MIN) : 0);
-  });
-  let width = x + MARGIN;
-  let height = top + columnsHeight + MARGIN;
-  // The highest top and lowest bottom of the boxes in columns lo..hi: what an arc clears.
-  const inSpan = ([lo, hi]: [number, number]) => [...boxes.values()].filter((b) => b.layer >= lo && b.layer <= hi);
+  const { boxes, right } = placeBoxes(columns, planned, top, loopInstances);
+  const tallest = Math.max(1, ...columns.map((col) => col.length));
+  let width = right + MARGIN;
+  let height = top + tallest * BOX_H + (tallest - 1) * ROW_GAP + MARGIN;
 
-  const edges: Edge[] = grouped.map((g, i) => {
-    const a = boxes.get(g.from) as Box;
-    const b = boxes.get(g.to) as Box;
-    const kind = kinds[i] as Kind;
-    const text = labelText(g.labels);
+  const edges = planned.map((e): Edge => {
+    const a = boxes.get(e.from) as Box;
+    const b = boxes.get(e.to) as Box;
+    const [lo, hi] = e.span;
+    const { path, labelX, labelY } = edgeShape(e, a, b, [...boxes.values()].filter((c) => c.layer >= lo && c.layer <= hi));
+    const text = labelText(e.labels);
     const labelWidth = textWidth(text) + 8;
-    const level = levelOf.get(g) ?? 0;
-    let points: number[][];
-    if (kind === "self") {
-      const right = a.x + a.width;
-      points = [[right - 18, a.y], [right - 18, a.y - SELF_RISE], [right + 26, a.y - SELF_RISE], [right, a.y + 10]];
-    } else if (kind === "back") {
-      // Leaves left of the centre and arrives right of it, so that the arrows in and out of
-      // a box in a chain do not meet in one point.
-      const bottom = Math.max(...inSpan(span(g)).map((c) => c.y + c.height)) + ARC_DEPTH + ARC_STEP * level;
-      points = [[a.x + a.width / 2 - 6, a.y + a.height], [a.x + a.width / 2 - 6, bottom], [b.x + b.width / 2 + 6, bottom], [b.x + b.width / 2 + 6, b.y + b.height]];
-      height = Math.max(height, bottom + MARGIN);
-    } else if (kind === "over") {
-      const peak = Math.min(...inSpan(span(g)).map((c) => c.y)) - ARC_DEPTH - ARC_STEP * level;
-      points = [[a.x + a.width / 2 + 6, a.y], [a.x + a.width / 2 + 6, peak], [b.x + b.width / 2 - 6, peak], [b.x + b.width / 2 - 6, b.y]];
-    } else {
-      const x1 = a.x + a.width;
-      const x2 = b.x;
-      const pull = Math.max(30, (x2 - x1) / 2);
-      points = [[x1, a.y + a.height / 2], [x1 + pull, a.y + a.height / 2], [x2 - pull, b.y + b.height / 2], [x2, b.y + b.height / 2]];
-    }
-    let [labelX, labelY] = midpoint(points);
-    if (kind === "self") labelY = a.y - SELF_RISE - 4;
-    else if (kind === "forward") labelY -= 8;
     width = Math.max(width, labelX + labelWidth / 2 + MARGIN);
-    return { from: g.from, to: g.to, labels: g.labels, text, kind, inLoop: g.inLoop, path: curve(points), labelX, labelY, labelWidth };
+    height = Math.max(height, labelY + MARGIN);
+    return { from: e.from, to: e.to, labels: e.labels, text, kind: e.kind, inLoop: e.inLoop, path, labelX, labelY, labelWidth };
   });
   return { width, height, boxes: [...boxes.values()], edges };
 }
