@@ -60,6 +60,7 @@ PROBLEM = "application/problem+json"
 PLAIN = {
     "twinlink.api.live._Gone",
     "twinlink.client.errors.ApiError",
+    "twinlink.cli.cosimapi.FileError",  # click's own error: one line and exit 2, never HTTP
     "twinlink.cosim.slaves.FmuTerminated",
     "twinlink.cosim.ssp._Refused",
     "twinlink.bus.kafka.codec.UndecodableRecordError",

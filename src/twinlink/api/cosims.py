@@ -15,6 +15,7 @@ from twinlink.api.models.problem import problems
 from twinlink.api.params import RowId
 from twinlink.api.responses import JSONAnswer
 from twinlink.api.routing import ExactJsonRoute
+from twinlink.cosim.params import MAX_FACTOR
 from twinlink.cosim.service import CosimService
 from twinlink.cosim.upload import MEDIA
 from twinlink.domain.commands import iso_time
@@ -58,8 +59,9 @@ class CosimStart(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     mode: str | None = Field(None, description="batch or realtime; the last one's if not given")
-    factor: float | None = Field(None, description="realtime: 1.0 = wall clock, 2.0 = twice as "
-                                 "fast")  # fmt: skip
+    factor: float | None = Field(
+        None, gt=0, le=MAX_FACTOR, description="realtime: 1.0 = wall clock, 2.0 = twice as fast"
+    )
 
 
 class CosimInstance(BaseModel):
@@ -176,7 +178,9 @@ async def create_cosim(
     name: Annotated[str | None, Query(max_length=100, description="its name")] = None,
     twin: TwinParam = None,
     mode: Annotated[str, Query(description="batch or realtime")] = "batch",
-    factor: Annotated[float, Query(description="realtime: 1.0 = wall clock")] = 1.0,
+    factor: Annotated[
+        float, Query(gt=0, le=MAX_FACTOR, description="realtime: 1.0 = wall clock")
+    ] = 1.0,
     prefix: Annotated[str, Query(max_length=64, description="of the signals")] = "",
     stream: StreamParam = None,
 ) -> JSONAnswer:
