@@ -14,9 +14,10 @@ How a step waits for its deadline, measured on the project's shared 2-core VM at
 and 140-250 us at the p99; sleeping until SPIN_NS before the deadline, with the thread's
 timer slack lowered to 1 us, then spinning on the clock, started the msd pair's steps with
 a p99 of 2-3 us at a load average of 1, for about 20 % of one core at 1 kHz, the steps
-included (the spin is at most SPIN_NS a step, so less at lower rates). What is left is the scheduler: a thread
-that has no CPU at its deadline starts late whatever it does; on a busy machine that is
-the p99 (milliseconds), which only real-time priority (chrt -f) removes.
+included (the spin is at most SPIN_NS a step, so less at lower rates). What is left is
+the scheduler: a thread that has no CPU at its deadline starts late whatever it does; on a
+busy machine that is the p99 (milliseconds), which only real-time priority (chrt -f)
+removes.
 """
 
 from __future__ import annotations
