@@ -61,8 +61,6 @@ from twinlink.ingest.mqtt import MqttService
 from twinlink.ingest.mqtt.metrics import MqttCollector
 from twinlink.ingest.service import IngestService
 from twinlink.ingest.sessions import DeviceHub
-from twinlink.library.blobs import FileBlobStore
-from twinlink.library.rights import LibraryRights
 from twinlink.library.service import LibraryService
 from twinlink.live import LiveHub
 from twinlink.metrics import DataPlaneCollector, Metrics, MetricsMiddleware
@@ -171,24 +169,24 @@ def build_services(settings: Settings) -> Services:
         ),
         mqtt=MqttService(settings, devices, hub, ingest, stores.claims("mqtt-broker")),
         cache_sync=CacheSync(bus, registry, auth, gateway) if shared_bus else None,
-        library=_library_service(settings, store),
+        library=LibraryService.configured(settings, store, inspect_upload),
     )
     services.processors.lib.library = services.library  # for `fmu: lib:...` (libref.py)
     services.search.library = services.library  # assets are found beside twins
-    services.deployments = _deployment_service(settings, services, vault)
-    services.runs = RunService.configured(settings, store, auth, stores.holder, bool(stores.shared))
-    services.runs.serve(services.deployments)
-    services.workspaces = _workspace_service(settings, services)
-    services.cosims = _cosim_service(settings, services, stores.holder)
+    _add_dtaas_services(settings, services, vault, stores.holder)
     return services
 
 
-def _cosim_service(settings: Settings, services: Services, node: str) -> CosimService:
-    shared = services.storage_shared is not None  # other nodes may run co-simulations
-    config = CosimSettings(settings.data_dir / "cosims", settings.cosim_max_mb * 2**20,
-                           settings.fmu_uploaders, node, shared, settings.max_cosims)  # fmt: skip
-    return CosimService(services.store, services.registry, services.ingest, services.fmus,
-                        services.library, config)  # fmt: skip
+def _add_dtaas_services(settings: Settings, services: Services, vault: Vault, node: str) -> None:
+    """Deployments, their lifecycle runs, workspaces and co-simulations, on the rest."""
+    shared = services.storage_shared is not None  # other nodes share the store (PostgreSQL)
+    services.deployments = _deployment_service(settings, services, vault)
+    services.runs = RunService.configured(settings, services.store, services.auth, node, shared)
+    services.runs.serve(services.deployments)
+    services.workspaces = _workspace_service(settings, services)
+    config = CosimSettings.of(settings, node, shared)
+    services.cosims = CosimService(services.store, services.registry, services.ingest,
+                                   services.fmus, services.library, config)  # fmt: skip
 
 
 def _deployment_service(settings: Settings, services: Services, vault: Vault) -> DeploymentService:
@@ -224,23 +222,9 @@ def _processor_service(
 
 
 def _workspace_service(settings: Settings, services: Services) -> WorkspaceService:
-    config = WorkspaceSettings(
-        settings.workspaces_enabled, settings.data_dir / "workspaces", settings.base_url,
-        settings.workspace_idle_s, settings.workspace_memory_mb,
-        settings.workspace_start_timeout_s, settings.max_workspaces,
-    )  # fmt: skip
     fill = materializer(services.library) if services.library is not None else None
-    shared = services.storage_shared is not None
+    config, shared = WorkspaceSettings.of(settings), services.storage_shared is not None
     return WorkspaceService(config, services.auth, fill, shared_store=shared)
-
-
-def _library_service(settings: Settings, store: MetadataStore) -> LibraryService:
-    rights = LibraryRights(settings.library_curators, settings.fmu_uploaders)
-    blobs = FileBlobStore(settings.data_dir / "library" / "blobs")
-    blobs.remove_stale_temps()  # left by pushes a crash cut off (a day old at least)
-    # FMUs pushed to the library are checked as twins' uploads are (the library does not
-    # import the processors: it is handed their check).
-    return LibraryService(store, blobs, settings.library_max_mb * 2**20, rights, inspect_upload)
 
 
 def open_vault(settings: Settings) -> Vault:

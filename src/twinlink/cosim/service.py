@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any, cast
 
 from twinlink.auth.rights import Principal, has_role
+from twinlink.config import Settings
 from twinlink.domain.cosims import CosimRecord
 from twinlink.domain.errors import (
     ConflictError,
@@ -66,6 +67,12 @@ class CosimSettings:
     node: str = "local"  # this node, in the records of the runs it runs
     shared: bool = False  # other nodes share the store (PostgreSQL)
     max_running: int = 8  # runs at once on this node
+
+    @classmethod
+    def of(cls, settings: Settings, node: str, shared: bool) -> CosimSettings:
+        """As the server's settings have them: data_dir/cosims, the limits."""
+        return cls(settings.data_dir / "cosims", settings.cosim_max_mb * 2**20,
+                   settings.fmu_uploaders, node, shared, settings.max_cosims)  # fmt: skip
 
 
 @dataclass(slots=True)

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any, cast
 
 from twinlink.auth.rights import Principal
+from twinlink.config import Settings
 from twinlink.domain.errors import ConflictError, InvalidInputError, NotFoundError
 from twinlink.domain.library import (
     LATEST,
@@ -31,7 +32,7 @@ from twinlink.domain.library import (
     parse_ref,
 )
 from twinlink.library import archive
-from twinlink.library.blobs import BlobStore
+from twinlink.library.blobs import BlobStore, FileBlobStore
 from twinlink.library.changes import LibraryChanges
 from twinlink.library.contents import (
     FmuInspector,
@@ -68,6 +69,18 @@ class PushResult:
 
 
 class LibraryService(LibraryChanges):
+    @classmethod
+    def configured(
+        cls, settings: Settings, store: LibraryStore, fmu_inspector: FmuInspector
+    ) -> LibraryService:
+        """As the server's settings have it: blobs in data_dir/library/blobs, its limits and
+        rights. FMUs pushed are checked as twins' uploads are: the library does not import
+        the processors, it is handed their check (`fmu_inspector`)."""
+        rights = LibraryRights(settings.library_curators, settings.fmu_uploaders)
+        blobs = FileBlobStore(settings.data_dir / "library" / "blobs")
+        blobs.remove_stale_temps()  # left by pushes a crash cut off (a day old at least)
+        return cls(store, blobs, settings.library_max_mb * 2**20, rights, fmu_inspector)
+
     def __init__(
         self,
         store: LibraryStore,

@@ -21,6 +21,7 @@ import httpx
 
 from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthService
+from twinlink.config import Settings
 from twinlink.domain.errors import ConflictError, ForbiddenError, NotFoundError, UnavailableError
 from twinlink.domain.records import User
 from twinlink.workspaces.access import Access
@@ -43,6 +44,12 @@ class WorkspaceSettings:
     memory_mb: int
     start_timeout_s: float
     max_running: int
+
+    @classmethod
+    def of(cls, settings: Settings) -> WorkspaceSettings:
+        return cls(settings.workspaces_enabled, settings.data_dir / "workspaces",
+                   settings.base_url, settings.workspace_idle_s, settings.workspace_memory_mb,
+                   settings.workspace_start_timeout_s, settings.max_workspaces)  # fmt: skip
 
 
 @dataclass(slots=True)
