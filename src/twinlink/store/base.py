@@ -26,11 +26,14 @@ from twinlink.domain.records import (
 from twinlink.store.cosims import CosimStore
 from twinlink.store.deployments import DeploymentStore
 from twinlink.store.library import LibraryStore
+from twinlink.store.remote import RemoteTwinStore
 from twinlink.store.runs import RunStore
 from twinlink.store.search import SearchStore
 
 
-class MetadataStore(SearchStore, DeploymentStore, LibraryStore, RunStore, CosimStore, Protocol):
+class MetadataStore(
+    SearchStore, DeploymentStore, LibraryStore, RunStore, CosimStore, RemoteTwinStore, Protocol
+):
     async def open(self) -> None: ...
     async def close(self) -> None: ...
     async def ping(self) -> bool: ...

@@ -13,6 +13,7 @@ from twinlink.store.sqlite.faults import StorageFaults
 from twinlink.store.sqlite.gateway import GatewayTables
 from twinlink.store.sqlite.library import LibraryTables
 from twinlink.store.sqlite.processors import ProcessorTables
+from twinlink.store.sqlite.remote import RemoteTables
 from twinlink.store.sqlite.runs import RunTables
 from twinlink.store.sqlite.search import SearchTables
 from twinlink.store.sqlite.twins import TwinTables
@@ -31,6 +32,7 @@ class SqliteStore(
     LibraryTables,
     RunTables,
     CosimTables,
+    RemoteTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""

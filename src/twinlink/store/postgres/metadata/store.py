@@ -11,6 +11,7 @@ from twinlink.store.postgres.metadata.devices import DeviceTables
 from twinlink.store.postgres.metadata.gateway import GatewayTables
 from twinlink.store.postgres.metadata.library import LibraryTables
 from twinlink.store.postgres.metadata.processors import ProcessorTables
+from twinlink.store.postgres.metadata.remote import RemoteTables
 from twinlink.store.postgres.metadata.runs import RunTables
 from twinlink.store.postgres.metadata.search import SearchTables
 from twinlink.store.postgres.metadata.twins import TwinTables
@@ -29,6 +30,7 @@ class PostgresMetadataStore(
     LibraryTables,
     RunTables,
     CosimTables,
+    RemoteTables,
 ):
     """Metadata store of users, tokens, twins, relations, devices, the search index,
     processors and FMUs, gateway services and connectors."""
