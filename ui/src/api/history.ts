@@ -178,7 +178,8 @@ export async function downloadExport(
   return name;
 }
 
-function saveBlob(blob: Blob, name: string): void {
+/** Hand a blob to the browser as a download named `name`. */
+export function saveBlob(blob: Blob, name: string): void {
   const url = URL.createObjectURL(blob);
   const link = document.createElement("a");
   link.href = url;

@@ -6,6 +6,7 @@ import { ConnectorsSection } from "../../components/connectors/ConnectorsSection
 import { DevicesSection } from "../../components/devices/DevicesSection";
 import { RolesSection } from "../../components/roles/RolesSection";
 import { DocumentDetails } from "../../components/twins/DocumentDetails";
+import { ExportButtons } from "../../components/twins/ExportButtons";
 import { InterfaceTables } from "../../components/twins/InterfaceTables";
 import { FeatureList, findService } from "../../components/twins/FeatureList";
 import { RelationLinks } from "../../components/twins/Relations";
@@ -35,6 +36,7 @@ export function OverviewTab() {
         <span className="mono">{twin.id}</span> · your role: {twin.role ?? "none"} · parts:{" "}
         {twin.levels.join(", ")} · <a href={twin.url}>canonical page</a>
       </p>
+      <ExportButtons slug={slug} />
       {document.description && <p className="lead">{document.description}</p>}
 
       <h2>Features</h2>
