@@ -19,3 +19,6 @@ class ExportContext:
     slug: str
     mqtt_url: str | None = None  # mqtt://host:port of the embedded listener, if enabled
     ws_url: str | None = None  # ws(s)://.../api/v1/live (browser live data)
+    # The first level(s) of every MQTT topic (TWINLINK_MQTT_TOPIC_PREFIX): topics are
+    # {prefix}/{slug}/{device}/... (docs/mqtt.md "Topics").
+    mqtt_topic_prefix: str = "twinlink"
