@@ -1,0 +1,481 @@
+"""The rules of the DTDL v3 specification, checked on a model as JSON (docs/formats.md "DTDL").
+
+From DTDL/v3/DTDL.Specification.v3.md (the normative text) and DTDL.v3.md (its limits
+tables) in Azure/opendigitaltwins-dtdl: DTMI syntax and lengths, the members each element
+type must and may have, names, localizable strings, schemas, Command requests and responses,
+Relationships, the QuantitativeTypes extension's semantic types and units, and the limits on
+nesting, element counts and size. Each problem names the path of the value at fault.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Iterator
+from typing import Any
+
+from twinlink.formats._dtdl_units import QUANTITATIVE_CONTEXT, SEMANTIC_TYPES, UNIT_TYPES
+
+DTDL_V3_CONTEXT = "dtmi:dtdl:context;3"
+DTMI = re.compile(
+    r"^dtmi:[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?(?::[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?)*"
+    r"(?:;[1-9][0-9]{0,8}(?:\.[1-9][0-9]{0,5})?)?$"
+)
+NAME_PATTERN = re.compile(r"^[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?$")
+LANGUAGE = re.compile(r"^[a-z]{2,4}(-[A-Z][a-z]{3})?(-([A-Z]{2}|[0-9]{3}))?$")
+INTERFACE_DTMI_MAX = 128
+DTMI_MAX = 2048
+NAME_MAX = 512
+TEXT_MAX = {"comment": 512, "description": 512, "displayName": 64}
+MAX_ELEMENTS = 100_000
+MAX_SCHEMA_DEPTH = 5
+MAX_EXTENDS = 1024
+MAX_BYTES = 1024 * 1024
+RESERVED_PREFIXES = ("dtmi:dtdl:", "dtmi:standard:")
+PRIMITIVE = {"boolean", "date", "dateTime", "double", "duration", "float", "integer"}
+PRIMITIVE |= {"long", "string", "time"}
+GEOSPATIAL = {"lineString", "multiLineString", "multiPoint", "multiPolygon", "point", "polygon"}
+NUMERIC = {"double", "float", "integer", "long"}
+CONTENT_TYPES = ("Command", "Component", "Property", "Relationship", "Telemetry")
+COMPLEX_TYPES = ("Array", "Enum", "Map", "Object")
+COMMON = {"@context", "@id", "@type", "comment", "description", "displayName"}
+MEMBERS: dict[str, set[str]] = {
+    "Interface": {"contents", "extends", "schemas"},
+    "Telemetry": {"name", "schema"},
+    "Property": {"name", "schema", "writable"},
+    "Command": {"name", "request", "response"},
+    "CommandRequest": {"name", "schema"},
+    "CommandResponse": {"name", "schema"},
+    "Relationship": {"maxMultiplicity", "minMultiplicity", "name", "properties", "target"},
+    "Component": {"name", "schema"},
+    "Array": {"elementSchema"},
+    "Enum": {"enumValues", "valueSchema"},
+    "EnumValue": {"enumValue", "name"},
+    "Map": {"mapKey", "mapValue"},
+    "MapKey": {"name", "schema"},
+    "MapValue": {"name", "schema"},
+    "Object": {"fields"},
+    "Field": {"name", "schema"},
+}
+MEMBERS["Relationship"].add("writable")
+REQUIRED: dict[str, tuple[str, ...]] = {
+    "Interface": ("@id", "@type"),
+    "Telemetry": ("@type", "name", "schema"),
+    "Property": ("@type", "name", "schema"),
+    "Command": ("@type", "name"),
+    "CommandRequest": ("name", "schema"),
+    "CommandResponse": ("name", "schema"),
+    "Relationship": ("@type", "name"),
+    "Component": ("@type", "name", "schema"),
+    "Array": ("@type", "elementSchema"),
+    "Enum": ("@type", "enumValues", "valueSchema"),
+    "EnumValue": ("enumValue", "name"),
+    "Map": ("@type", "mapKey", "mapValue"),
+    "MapKey": ("name", "schema"),
+    "MapValue": ("name", "schema"),
+    "Object": ("@type", "fields"),
+    "Field": ("name", "schema"),
+}
+# Element types a QuantitativeTypes semantic type may co-type (and then give a `unit`).
+SEMANTIC_HOSTS = {"CommandRequest", "CommandResponse", "Field", "MapValue", "Property"}
+SEMANTIC_HOSTS.add("Telemetry")
+KNOWN_CONTEXTS = {DTDL_V3_CONTEXT, QUANTITATIVE_CONTEXT}
+
+
+def validate_dtdl(data: dict[str, Any] | list[Any]) -> list[str]:
+    """The problems of a DTDL v3 model (one Interface, or a list of them); empty when valid."""
+    return _Checker(data).run()
+
+
+class _Checker:
+    def __init__(self, data: Any) -> None:
+        self.data = data
+        self.problems: list[str] = []
+        self.ids: dict[str, str] = {}  # @id -> the path that declared it first
+        self.references: list[tuple[str, str]] = []  # (DTMI, path) of schema references
+        self.elements = 0
+
+    def run(self) -> list[str]:
+        roots = self.data if isinstance(self.data, list) else [self.data]
+        if not roots or not all(isinstance(r, dict) for r in roots):
+            return ["a DTDL model is a JSON object (an Interface) or an array of them"]
+        for index, root in enumerate(roots):
+            path = f"[{index}]" if isinstance(self.data, list) else ""
+            self.elements = 0
+            if self._kind_of(root, path, ("Interface",)):
+                self._interface(root, path, [], top=True)
+            size = len(json.dumps(root, ensure_ascii=False).encode())
+            if size > MAX_BYTES:
+                self.problem(path, f"the Interface is {size} bytes of JSON; DTDL allows 1 MiB")
+        for dtmi, path in self.references:
+            if dtmi not in self.ids and not dtmi.startswith(RESERVED_PREFIXES):
+                self.problem(
+                    path,
+                    f"{dtmi} is not defined in this model (the model is incomplete): "
+                    "define the schema in the Interface's `schemas`, or inline",
+                )
+        return self.problems
+
+    def problem(self, path: str, message: str) -> None:
+        self.problems.append(f"{path or '(Interface)'}: {message}")
+
+    # -- elements ------------------------------------------------------------------------
+
+    def _interface(self, node: dict[str, Any], path: str, context: list[str], top: bool) -> None:
+        if top and "@context" not in node:
+            self.problem(path, f'an Interface at the top needs "@context": "{DTDL_V3_CONTEXT}"')
+        context = self._context(node, path, context, top)
+        if not self._element(node, path, "Interface", context):
+            return
+        contents = _as_list(node.get("contents"))
+        names: dict[str, str] = {}
+        for i, child in enumerate(contents):
+            child_path = _join(path, f"contents[{i}]")
+            kind = self._kind_of(child, child_path, CONTENT_TYPES)
+            if kind:
+                self._content(child, child_path, kind, context)
+                self._unique_name(child, child_path, names, "contents of the Interface")
+        for i, schema in enumerate(_as_list(node.get("schemas"))):
+            schema_path = _join(path, f"schemas[{i}]")
+            if isinstance(schema, dict) and "@id" not in schema:
+                self.problem(schema_path, "a schema in `schemas` needs an @id")
+            self._schema(schema, schema_path, context, 0)
+        extends = _as_list(node.get("extends"))
+        if len(extends) > MAX_EXTENDS:
+            self.problem(_join(path, "extends"), f"more than {MAX_EXTENDS} Interfaces")
+        for i, parent in enumerate(extends):
+            parent_path = _join(path, f"extends[{i}]")
+            if isinstance(parent, dict):
+                self._interface(parent, parent_path, context, top=False)
+            elif not (isinstance(parent, str) and DTMI.match(parent)):
+                self.problem(parent_path, "`extends` takes DTMIs or Interfaces")
+        if top and self.elements > MAX_ELEMENTS:
+            self.problem(path, f"{self.elements} elements under contents; DTDL allows 100000")
+
+    def _content(self, node: dict[str, Any], path: str, kind: str, context: list[str]) -> None:
+        context = self._context(node, path, context, False)
+        if not self._element(node, path, kind, context):
+            return
+        if kind in ("Telemetry", "Property"):
+            self._schema(node.get("schema"), _join(path, "schema"), context, 0)
+        if kind == "Property" and "writable" in node and not isinstance(node["writable"], bool):
+            self.problem(_join(path, "writable"), "must be true or false")
+        if kind == "Command":
+            for member in ("request", "response"):
+                if member in node:
+                    self._payload(node[member], _join(path, member), member, context)
+        if kind == "Relationship":
+            self._relationship(node, path, context)
+        if kind == "Component":
+            schema = node.get("schema")
+            if isinstance(schema, dict):
+                self._interface(schema, _join(path, "schema"), context, top=False)
+            elif not (isinstance(schema, str) and DTMI.match(schema)):
+                self.problem(_join(path, "schema"), "a Component's schema is an Interface")
+
+    def _payload(self, value: Any, path: str, member: str, context: list[str]) -> None:
+        if isinstance(value, list):
+            if len(value) != 1:
+                self.problem(path, f"a Command has one {member} (an Object for several values)")
+                return
+            value = value[0]
+        kind = "CommandRequest" if member == "request" else "CommandResponse"
+        if not isinstance(value, dict):
+            self.problem(path, f"must be a {kind}: an object with name and schema")
+            return
+        if "@type" in value and not self._kind_of(value, path, (kind,)):
+            return
+        if self._element(value, path, kind, context):
+            self._schema(value.get("schema"), _join(path, "schema"), context, 0)
+
+    def _relationship(self, node: dict[str, Any], path: str, context: list[str]) -> None:
+        if "target" in node and not (
+            isinstance(node["target"], str) and DTMI.match(node["target"])
+        ):
+            self.problem(_join(path, "target"), "must be a DTMI (the target Interface)")
+        low, high = node.get("minMultiplicity"), node.get("maxMultiplicity")
+        if low is not None and low != 0:
+            self.problem(_join(path, "minMultiplicity"), "must be 0 in DTDL v3")
+        if high is not None and not (_is_int(high) and high >= 1):
+            self.problem(_join(path, "maxMultiplicity"), "must be an integer of at least 1")
+        names: dict[str, str] = {}
+        for i, prop in enumerate(_as_list(node.get("properties"))):
+            prop_path = _join(path, f"properties[{i}]")
+            if self._kind_of(prop, prop_path, ("Property",)):
+                self._content(prop, prop_path, "Property", context)
+                self._unique_name(prop, prop_path, names, "properties of the Relationship")
+
+    def _schema(self, value: Any, path: str, context: list[str], depth: int) -> None:
+        value = value[0] if isinstance(value, list) and len(value) == 1 else value
+        if isinstance(value, str):
+            term = value.removeprefix("dtmi:dtdl:instance:Schema:").removeprefix(
+                "dtmi:standard:schema:geospatial:"
+            )
+            if term.split(";")[0] in PRIMITIVE | GEOSPATIAL:
+                return
+            if DTMI.match(value):
+                self.references.append((value, path))
+                return
+            self.problem(path, f"{value!r} is not a DTDL schema (double, string, ...) or a DTMI")
+            return
+        if not isinstance(value, dict):
+            self.problem(path, "a schema is a standard schema's name, a DTMI or an element")
+            return
+        if depth >= MAX_SCHEMA_DEPTH:
+            self.problem(path, f"schemas nest more than {MAX_SCHEMA_DEPTH} levels deep")
+            return
+        kind = self._kind_of(value, path, COMPLEX_TYPES)
+        context = self._context(value, path, context, False)
+        if not kind or not self._element(value, path, kind, context):
+            return
+        if kind == "Array":
+            self._schema(
+                value.get("elementSchema"), _join(path, "elementSchema"), context, depth + 1
+            )
+        elif kind == "Map":
+            self._map(value, path, context, depth)
+        elif kind == "Object":
+            names: dict[str, str] = {}
+            for i, field in enumerate(_as_list(value.get("fields"))):
+                self._field(field, _join(path, f"fields[{i}]"), "Field", context, depth, names)
+        elif kind == "Enum":
+            self._enum(value, path, context)
+
+    def _field(
+        self, node: Any, path: str, kind: str, ctx: list[str], depth: int, names: dict[str, str]
+    ) -> None:
+        if not isinstance(node, dict):
+            self.problem(path, f"must be a {kind}: an object with name and schema")
+            return
+        if "@type" in node and not self._kind_of(node, path, (kind,)):
+            return
+        if self._element(node, path, kind, ctx):
+            self._schema(node.get("schema"), _join(path, "schema"), ctx, depth + 1)
+            self._unique_name(node, path, names, "fields of the Object")
+
+    def _map(self, node: dict[str, Any], path: str, context: list[str], depth: int) -> None:
+        key = node.get("mapKey")
+        if isinstance(key, dict) and "@type" not in key:
+            self._element(key, _join(path, "mapKey"), "MapKey", context)
+            if key.get("schema") != "string":
+                self.problem(_join(path, "mapKey.schema"), 'a map key\'s schema must be "string"')
+        self._field(node.get("mapValue"), _join(path, "mapValue"), "MapValue", context, depth, {})
+
+    def _enum(self, node: dict[str, Any], path: str, context: list[str]) -> None:
+        value_schema = node.get("valueSchema")
+        if value_schema not in ("integer", "string"):
+            self.problem(_join(path, "valueSchema"), 'must be "integer" or "string"')
+        names: dict[str, str] = {}
+        values: set[Any] = set()
+        for i, item in enumerate(_as_list(node.get("enumValues"))):
+            item_path = _join(path, f"enumValues[{i}]")
+            if not isinstance(item, dict) or not self._element(
+                item, item_path, "EnumValue", context
+            ):
+                continue
+            self._unique_name(item, item_path, names, "values of the Enum")
+            value = item.get("enumValue")
+            wanted = int if value_schema == "integer" else str
+            if not isinstance(value, wanted) or isinstance(value, bool):
+                self.problem(
+                    _join(item_path, "enumValue"), f"must be {value_schema} as valueSchema says"
+                )
+            elif value in values:
+                self.problem(_join(item_path, "enumValue"), f"{value!r} is given twice")
+            values.add(value)
+
+    # -- members common to every element -------------------------------------------------
+
+    def _element(self, node: dict[str, Any], path: str, kind: str, context: list[str]) -> bool:
+        """Type, id, members, names and texts of one element; False when it is unusable."""
+        self.elements += 1
+        co_types = self._co_types(node, path, kind, context)
+        informal = co_types is None
+        allowed = COMMON | MEMBERS[kind]
+        if co_types and kind in SEMANTIC_HOSTS:
+            allowed = allowed | {"unit"}
+            self._unit(node, path, co_types)
+        for member in REQUIRED[kind]:
+            if member not in node:
+                self.problem(path, f"a {kind} needs `{member}`")
+        for member in node:
+            term = _term(member)
+            if term != member and term in node:
+                self.problem(_join(path, member), f"`{term}` is given twice (also as a DTMI)")
+            if member.startswith("@") and member not in ("@context", "@id", "@type"):
+                self.problem(_join(path, member), f"{member} is not allowed in a DTDL element")
+            elif ":" in member and not member.startswith("dtmi:") and not member.startswith("@"):
+                self.problem(_join(path, member), "a member name with ':' must be a DTMI")
+            elif not informal and not member.startswith("@") and term not in allowed:
+                self.problem(_join(path, member), f"a {kind} has no member `{member}`")
+        if "@id" in node:
+            self._id(node["@id"], _join(path, "@id"), kind)
+        if "name" in node:
+            self._name(node["name"], _join(path, "name"))
+        for member, limit in TEXT_MAX.items():
+            if member in node:
+                self._text(node[member], _join(path, member), limit, member == "comment")
+        return True
+
+    def _co_types(
+        self, node: dict[str, Any], path: str, kind: str, context: list[str]
+    ) -> list[str] | None:
+        """The semantic types co-typing the element; None when it is informally co-typed
+        (a co-type of an extension this checker does not know)."""
+        types = node.get("@type", [kind])
+        types = types if isinstance(types, list) else [types]
+        co_types: list[str] = []
+        informal = False
+        for value in types:
+            if not isinstance(value, str):
+                self.problem(_join(path, "@type"), "must be a string or an array of strings")
+                continue
+            term = value.removeprefix("dtmi:dtdl:class:").split(";")[0]
+            if term == kind:
+                continue
+            if ":" in value and not DTMI.match(value):
+                self.problem(_join(path, "@type"), f"{value!r} is neither a DTDL term nor a DTMI")
+            elif term in SEMANTIC_TYPES and QUANTITATIVE_CONTEXT in context:
+                if kind not in SEMANTIC_HOSTS:
+                    self.problem(_join(path, "@type"), f"a {kind} cannot be a {term}")
+                co_types.append(term)
+            elif any(c not in KNOWN_CONTEXTS for c in context):
+                informal = True  # defined, perhaps, by an extension we do not know
+            else:
+                hint = (
+                    f" (a semantic type: add {QUANTITATIVE_CONTEXT} to @context)"
+                    if term in SEMANTIC_TYPES
+                    else ""
+                )
+                self.problem(_join(path, "@type"), f"{value!r} is not defined{hint}")
+        return None if informal else co_types
+
+    def _unit(self, node: dict[str, Any], path: str, co_types: list[str]) -> None:
+        for semantic in co_types:
+            unit_type = SEMANTIC_TYPES[semantic]
+            if node.get("unit") not in UNIT_TYPES[unit_type]:
+                self.problem(
+                    _join(path, "unit"),
+                    f"a {semantic} needs a unit of {unit_type} "
+                    f"({', '.join(sorted(UNIT_TYPES[unit_type])[:4])}, ...)",
+                )
+        schema = node.get("schema")
+        if "schema" in node and schema not in NUMERIC:
+            self.problem(_join(path, "schema"), "a semantic type needs a numeric schema")
+
+    def _kind_of(self, node: Any, path: str, kinds: tuple[str, ...]) -> str | None:
+        if not isinstance(node, dict):
+            self.problem(path, f"must be an element ({', '.join(kinds)})")
+            return None
+        types = node.get("@type")
+        values = types if isinstance(types, list) else [types]
+        terms = {str(v).removeprefix("dtmi:dtdl:class:").split(";")[0] for v in values}
+        for kind in kinds:
+            if kind in terms:
+                return kind
+        self.problem(_join(path, "@type"), f"must include one of {', '.join(kinds)}")
+        return None
+
+    def _context(self, node: dict[str, Any], path: str, outer: list[str], top: bool) -> list[str]:
+        if "@context" not in node:
+            return outer
+        value = node["@context"]
+        values = value if isinstance(value, list) else [value]
+        cpath = _join(path, "@context")
+        if not all(isinstance(v, str) for v in values):
+            self.problem(cpath, "must be a string or an array of strings")
+            return outer
+        for v in values:
+            if not (DTMI.match(v) and ";" in v):
+                self.problem(cpath, f"{v!r} is not a DTMI with a version")
+            elif v.startswith("dtmi:dtdl:context;") and v != DTDL_V3_CONTEXT:
+                self.problem(cpath, f"{v} is not DTDL v3 (this checker applies v3's rules)")
+            elif v not in KNOWN_CONTEXTS:
+                self.problem(cpath, f"{v}: an extension this checker does not know")
+        if top and DTDL_V3_CONTEXT not in values:
+            self.problem(cpath, f"must include {DTDL_V3_CONTEXT}")
+        others = [v for v in values if not v.startswith("dtmi:dtdl:context;")]
+        if (
+            DTDL_V3_CONTEXT in values
+            and others
+            and values.index(others[0]) < values.index(DTDL_V3_CONTEXT)
+        ):
+            self.problem(cpath, f"{DTDL_V3_CONTEXT} must come before the extensions")
+        return [*outer, *values]
+
+    def _id(self, value: Any, path: str, kind: str) -> None:
+        if not isinstance(value, str) or not DTMI.match(value):
+            self.problem(path, f"{value!r} is not a DTMI (dtmi:segment:segment;version)")
+            return
+        limit = INTERFACE_DTMI_MAX if kind == "Interface" else DTMI_MAX
+        if len(value) > limit:
+            self.problem(path, f"a {kind}'s DTMI has at most {limit} characters, not {len(value)}")
+        if value.startswith(RESERVED_PREFIXES):
+            self.problem(path, f"{value}: DTMIs starting dtmi:dtdl: or dtmi:standard: are reserved")
+        if value in self.ids:
+            self.problem(path, f"@id {value} is used twice (first at {self.ids[value]})")
+        else:
+            self.ids[value] = path
+
+    def _name(self, value: Any, path: str) -> None:
+        text = value.get("@value") if isinstance(value, dict) else value
+        if not isinstance(text, str):
+            self.problem(path, "must be a string")
+        elif len(text) > NAME_MAX:
+            self.problem(path, f"at most {NAME_MAX} characters, not {len(text)}")
+        elif not NAME_PATTERN.match(text):
+            self.problem(path, f"{text!r}: letters, digits and _, a letter first, not _ last")
+
+    def _text(self, value: Any, path: str, limit: int, plain: bool) -> None:
+        for text in _texts(value, plain):
+            if text is None:
+                self.problem(path, "must be a string" + ("" if plain else " or a language map"))
+            elif len(text) > limit:
+                self.problem(path, f"at most {limit} characters, not {len(text)}")
+
+    def _unique_name(self, node: Any, path: str, seen: dict[str, str], where: str) -> None:
+        name = node.get("name") if isinstance(node, dict) else None
+        if not isinstance(name, str):
+            return
+        if name in seen:
+            self.problem(
+                _join(path, "name"), f"{name!r} is used twice in the {where} ({seen[name]})"
+            )
+        else:
+            seen[name] = path
+
+
+def _texts(value: Any, plain: bool) -> Iterator[str | None]:
+    """The strings of a (localizable) string; None for a value of the wrong form."""
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, dict) and "@value" in value:
+        yield value["@value"] if isinstance(value["@value"], str) else None
+    elif isinstance(value, dict) and not plain:
+        for lang, text in value.items():
+            yield text if LANGUAGE.match(lang) and isinstance(text, str) else None
+    elif isinstance(value, list) and not plain:
+        for item in value:
+            yield from _texts(item, plain=True)
+    else:
+        yield None
+
+
+def _term(member: str) -> str:
+    if member.startswith("dtmi:dtdl:property:") and member.endswith(";3"):
+        return member[len("dtmi:dtdl:property:") : -2]
+    return member
+
+
+def _as_list(value: Any) -> list[Any]:
+    if value is None:
+        return []
+    return value if isinstance(value, list) else [value]
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _join(path: str, member: str) -> str:
+    return f"{path}.{member}" if path and not member.startswith("[") else path + member
