@@ -29,16 +29,15 @@ from twinlink.cosim.maestro import read_maestro
 from twinlink.cosim.model import CosimFormatError, System
 from twinlink.cosim.pacing import run_paced
 from twinlink.cosim.reading import format_of, read_system
+from twinlink.cosim.recording import every_output
 from twinlink.cosim.session import Session
 from twinlink.cosim.ssp import extract
 from twinlink.domain.errors import InvalidInputError
-from twinlink.processors.fmuinfo import FmuError, inspect_fmu
 
 Row = npt.NDArray[np.float64]
 Say = Callable[[str], None]
 PROGRESS_MARKS = 10  # progress lines per run (each 10 %), so a run's log stays short
 FLUSH_S = 0.5  # a paced run's CSV is flushed this often
-UNRECORDED = frozenset({"String", "Binary", "Clock"})  # a row holds numbers only
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,7 +79,7 @@ def load(
             base = unpacked
         system = _override(system, end, step)
         fmu_paths = _fmu_paths(path, system, base)
-        recorded = _recording(system, fmu_paths)
+        recorded = every_output(system, fmu_paths)
         yield Loaded(path, recorded, fmu_paths, every_output=recorded is not system)
     finally:
         if unpacked is not None:
@@ -114,27 +113,6 @@ def _fmu_paths(path: Path, system: System, base: Path) -> dict[str, Path]:
             )
         found[instance.fmu] = fmu
     return found
-
-
-def _recording(system: System, fmu_paths: dict[str, Path]) -> System:
-    """A system that records nothing (an SSP archive has no list of what to record) records
-    every scalar output of every instance that a row can hold (not String, Binary, Clock)."""
-    if system.log_variables:
-        return system
-    recorded: dict[str, tuple[str, ...]] = {}
-    for instance in system.instances:
-        try:
-            info = inspect_fmu(fmu_paths[instance.fmu])
-        except FmuError:
-            continue  # the run names the FMU and why it cannot be used
-        outputs = tuple(
-            v.name
-            for v in info.variables
-            if v.causality == "output" and not v.shape and v.type not in UNRECORDED
-        )
-        if outputs:
-            recorded[instance.name] = outputs
-    return replace(system, log_variables=recorded)
 
 
 def signal_name(column: str, prefix: str = "") -> str:

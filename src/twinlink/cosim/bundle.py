@@ -33,6 +33,7 @@ from twinlink.library.service import LibraryService
 from twinlink.processors.fmuinfo import FmuError, FmuInfo, inspect_fmu
 
 from .graph import algebraic_loops, feedthrough_of
+from .kinds import kind_of
 from .maestro import _merge as merge_maestro
 from .maestro import read_maestro
 from .model import CosimFormatError, Instance, Port, System
@@ -167,8 +168,8 @@ def inspect(bundle: Bundle, folder: Path, document: str) -> None:
     system = bundle.system
     infos: dict[str, FmuInfo] = {}
     feedthrough: dict[str, dict[str, set[str]]] = {}
-    for ref, fmu in bundle.fmus.items():
-        path = folder / fmu["path"]
+    paths = {ref: folder / fmu["path"] for ref, fmu in bundle.fmus.items()}
+    for ref, path in paths.items():
         try:
             infos[ref] = inspect_fmu(path)
             feedthrough[ref] = feedthrough_of(fmpy.read_model_description(str(path)))
@@ -177,13 +178,8 @@ def inspect(bundle: Bundle, folder: Path, document: str) -> None:
     by_instance = {i.name: i for i in system.instances}
     _check_ports(system, by_instance, infos, document)
     loops = algebraic_loops(system, lambda name: feedthrough.get(by_instance[name].fmu))
-    bundle.view = view_of(system, {i.name: _kind(infos[i.fmu]) for i in system.instances}, loops)
-
-
-def _kind(info: FmuInfo) -> str:
-    if (info.generation_tool or "").lower().startswith("pythonfmu"):
-        return "python"
-    return "co-simulation" if info.co_simulation else "model-exchange"
+    kinds: dict[str, str] = {i.name: kind_of(infos[i.fmu], paths[i.fmu]) for i in system.instances}
+    bundle.view = view_of(system, kinds, loops)
 
 
 def _check_ports(

@@ -44,6 +44,7 @@ from .kinds import is_python_fmu
 from .maestro import read_maestro
 from .model import System
 from .pacing import run_paced
+from .recording import every_output
 from .session import Row, Session
 from .ssp import read_ssp
 from .yamlform import read_yaml
@@ -161,7 +162,7 @@ def in_process(system: System, spec: JobSpec) -> list[str]:
 def run(spec: JobSpec, stop: threading.Event, out: Output) -> tuple[End, str]:
     """Run the job; how it ended and why. Raises what the Session raises (TwinlinkError
     for a system that cannot run or an FMU that failed)."""
-    system = read_system(spec)
+    system = every_output(read_system(spec), spec.fmu_paths)
     if spec.mode == "batch" and system.end_time is None:
         return "failed", "a batch run needs an end time: give the document one"
     out.send({"in_process": in_process(system, spec)})
