@@ -10,76 +10,38 @@ nesting, element counts and size. Each problem names the path of the value at fa
 from __future__ import annotations
 
 import json
-import re
-from collections.abc import Iterator
 from typing import Any
 
-from twinlink.formats._dtdl_units import QUANTITATIVE_CONTEXT, SEMANTIC_TYPES, UNIT_TYPES
-
-DTDL_V3_CONTEXT = "dtmi:dtdl:context;3"
-DTMI = re.compile(
-    r"^dtmi:[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?(?::[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?)*"
-    r"(?:;[1-9][0-9]{0,8}(?:\.[1-9][0-9]{0,5})?)?$"
+from twinlink.formats._dtdl_terms import (
+    COMMON,
+    COMPLEX_TYPES,
+    CONTENT_TYPES,
+    DTDL_V3_CONTEXT,
+    DTMI,
+    DTMI_MAX,
+    GEOSPATIAL,
+    INTERFACE_DTMI_MAX,
+    KNOWN_CONTEXTS,
+    MAX_BYTES,
+    MAX_ELEMENTS,
+    MAX_EXTENDS,
+    MAX_SCHEMA_DEPTH,
+    MEMBERS,
+    NAME_MAX,
+    NAME_PATTERN,
+    NUMERIC,
+    PRIMITIVE,
+    REQUIRED,
+    RESERVED_PREFIXES,
+    SEMANTIC_HOSTS,
+    TEXT_MAX,
+    as_list,
+    at,
+    element_texts,
+    is_int,
+    member_term,
 )
-NAME_PATTERN = re.compile(r"^[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?$")
-LANGUAGE = re.compile(r"^[a-z]{2,4}(-[A-Z][a-z]{3})?(-([A-Z]{2}|[0-9]{3}))?$")
-INTERFACE_DTMI_MAX = 128
-DTMI_MAX = 2048
-NAME_MAX = 512
-TEXT_MAX = {"comment": 512, "description": 512, "displayName": 64}
-MAX_ELEMENTS = 100_000
-MAX_SCHEMA_DEPTH = 5
-MAX_EXTENDS = 1024
-MAX_BYTES = 1024 * 1024
-RESERVED_PREFIXES = ("dtmi:dtdl:", "dtmi:standard:")
-PRIMITIVE = {"boolean", "date", "dateTime", "double", "duration", "float", "integer"}
-PRIMITIVE |= {"long", "string", "time"}
-GEOSPATIAL = {"lineString", "multiLineString", "multiPoint", "multiPolygon", "point", "polygon"}
-NUMERIC = {"double", "float", "integer", "long"}
-CONTENT_TYPES = ("Command", "Component", "Property", "Relationship", "Telemetry")
-COMPLEX_TYPES = ("Array", "Enum", "Map", "Object")
-COMMON = {"@context", "@id", "@type", "comment", "description", "displayName"}
-MEMBERS: dict[str, set[str]] = {
-    "Interface": {"contents", "extends", "schemas"},
-    "Telemetry": {"name", "schema"},
-    "Property": {"name", "schema", "writable"},
-    "Command": {"name", "request", "response"},
-    "CommandRequest": {"name", "schema"},
-    "CommandResponse": {"name", "schema"},
-    "Relationship": {"maxMultiplicity", "minMultiplicity", "name", "properties", "target"},
-    "Component": {"name", "schema"},
-    "Array": {"elementSchema"},
-    "Enum": {"enumValues", "valueSchema"},
-    "EnumValue": {"enumValue", "name"},
-    "Map": {"mapKey", "mapValue"},
-    "MapKey": {"name", "schema"},
-    "MapValue": {"name", "schema"},
-    "Object": {"fields"},
-    "Field": {"name", "schema"},
-}
-MEMBERS["Relationship"].add("writable")
-REQUIRED: dict[str, tuple[str, ...]] = {
-    "Interface": ("@id", "@type"),
-    "Telemetry": ("@type", "name", "schema"),
-    "Property": ("@type", "name", "schema"),
-    "Command": ("@type", "name"),
-    "CommandRequest": ("name", "schema"),
-    "CommandResponse": ("name", "schema"),
-    "Relationship": ("@type", "name"),
-    "Component": ("@type", "name", "schema"),
-    "Array": ("@type", "elementSchema"),
-    "Enum": ("@type", "enumValues", "valueSchema"),
-    "EnumValue": ("enumValue", "name"),
-    "Map": ("@type", "mapKey", "mapValue"),
-    "MapKey": ("name", "schema"),
-    "MapValue": ("name", "schema"),
-    "Object": ("@type", "fields"),
-    "Field": ("name", "schema"),
-}
-# Element types a QuantitativeTypes semantic type may co-type (and then give a `unit`).
-SEMANTIC_HOSTS = {"CommandRequest", "CommandResponse", "Field", "MapValue", "Property"}
-SEMANTIC_HOSTS.add("Telemetry")
-KNOWN_CONTEXTS = {DTDL_V3_CONTEXT, QUANTITATIVE_CONTEXT}
+from twinlink.formats._dtdl_units import QUANTITATIVE_CONTEXT, SEMANTIC_TYPES, UNIT_TYPES
 
 
 def validate_dtdl(data: dict[str, Any] | list[Any]) -> list[str]:
@@ -127,24 +89,24 @@ class _Checker:
         context = self._context(node, path, context, top)
         if not self._element(node, path, "Interface", context):
             return
-        contents = _as_list(node.get("contents"))
+        contents = as_list(node.get("contents"))
         names: dict[str, str] = {}
         for i, child in enumerate(contents):
-            child_path = _join(path, f"contents[{i}]")
+            child_path = at(path, f"contents[{i}]")
             kind = self._kind_of(child, child_path, CONTENT_TYPES)
             if kind:
                 self._content(child, child_path, kind, context)
                 self._unique_name(child, child_path, names, "contents of the Interface")
-        for i, schema in enumerate(_as_list(node.get("schemas"))):
-            schema_path = _join(path, f"schemas[{i}]")
+        for i, schema in enumerate(as_list(node.get("schemas"))):
+            schema_path = at(path, f"schemas[{i}]")
             if isinstance(schema, dict) and "@id" not in schema:
                 self.problem(schema_path, "a schema in `schemas` needs an @id")
             self._schema(schema, schema_path, context, 0)
-        extends = _as_list(node.get("extends"))
+        extends = as_list(node.get("extends"))
         if len(extends) > MAX_EXTENDS:
-            self.problem(_join(path, "extends"), f"more than {MAX_EXTENDS} Interfaces")
+            self.problem(at(path, "extends"), f"more than {MAX_EXTENDS} Interfaces")
         for i, parent in enumerate(extends):
-            parent_path = _join(path, f"extends[{i}]")
+            parent_path = at(path, f"extends[{i}]")
             if isinstance(parent, dict):
                 self._interface(parent, parent_path, context, top=False)
             elif not (isinstance(parent, str) and DTMI.match(parent)):
@@ -157,21 +119,21 @@ class _Checker:
         if not self._element(node, path, kind, context):
             return
         if kind in ("Telemetry", "Property"):
-            self._schema(node.get("schema"), _join(path, "schema"), context, 0)
+            self._schema(node.get("schema"), at(path, "schema"), context, 0)
         if kind == "Property" and "writable" in node and not isinstance(node["writable"], bool):
-            self.problem(_join(path, "writable"), "must be true or false")
+            self.problem(at(path, "writable"), "must be true or false")
         if kind == "Command":
             for member in ("request", "response"):
                 if member in node:
-                    self._payload(node[member], _join(path, member), member, context)
+                    self._payload(node[member], at(path, member), member, context)
         if kind == "Relationship":
             self._relationship(node, path, context)
         if kind == "Component":
             schema = node.get("schema")
             if isinstance(schema, dict):
-                self._interface(schema, _join(path, "schema"), context, top=False)
+                self._interface(schema, at(path, "schema"), context, top=False)
             elif not (isinstance(schema, str) and DTMI.match(schema)):
-                self.problem(_join(path, "schema"), "a Component's schema is an Interface")
+                self.problem(at(path, "schema"), "a Component's schema is an Interface")
 
     def _payload(self, value: Any, path: str, member: str, context: list[str]) -> None:
         if isinstance(value, list):
@@ -186,21 +148,21 @@ class _Checker:
         if "@type" in value and not self._kind_of(value, path, (kind,)):
             return
         if self._element(value, path, kind, context):
-            self._schema(value.get("schema"), _join(path, "schema"), context, 0)
+            self._schema(value.get("schema"), at(path, "schema"), context, 0)
 
     def _relationship(self, node: dict[str, Any], path: str, context: list[str]) -> None:
         if "target" in node and not (
             isinstance(node["target"], str) and DTMI.match(node["target"])
         ):
-            self.problem(_join(path, "target"), "must be a DTMI (the target Interface)")
+            self.problem(at(path, "target"), "must be a DTMI (the target Interface)")
         low, high = node.get("minMultiplicity"), node.get("maxMultiplicity")
         if low is not None and low != 0:
-            self.problem(_join(path, "minMultiplicity"), "must be 0 in DTDL v3")
-        if high is not None and not (_is_int(high) and high >= 1):
-            self.problem(_join(path, "maxMultiplicity"), "must be an integer of at least 1")
+            self.problem(at(path, "minMultiplicity"), "must be 0 in DTDL v3")
+        if high is not None and not (is_int(high) and high >= 1):
+            self.problem(at(path, "maxMultiplicity"), "must be an integer of at least 1")
         names: dict[str, str] = {}
-        for i, prop in enumerate(_as_list(node.get("properties"))):
-            prop_path = _join(path, f"properties[{i}]")
+        for i, prop in enumerate(as_list(node.get("properties"))):
+            prop_path = at(path, f"properties[{i}]")
             if self._kind_of(prop, prop_path, ("Property",)):
                 self._content(prop, prop_path, "Property", context)
                 self._unique_name(prop, prop_path, names, "properties of the Relationship")
@@ -229,15 +191,13 @@ class _Checker:
         if not kind or not self._element(value, path, kind, context):
             return
         if kind == "Array":
-            self._schema(
-                value.get("elementSchema"), _join(path, "elementSchema"), context, depth + 1
-            )
+            self._schema(value.get("elementSchema"), at(path, "elementSchema"), context, depth + 1)
         elif kind == "Map":
             self._map(value, path, context, depth)
         elif kind == "Object":
             names: dict[str, str] = {}
-            for i, field in enumerate(_as_list(value.get("fields"))):
-                self._field(field, _join(path, f"fields[{i}]"), "Field", context, depth, names)
+            for i, field in enumerate(as_list(value.get("fields"))):
+                self._field(field, at(path, f"fields[{i}]"), "Field", context, depth, names)
         elif kind == "Enum":
             self._enum(value, path, context)
 
@@ -250,25 +210,25 @@ class _Checker:
         if "@type" in node and not self._kind_of(node, path, (kind,)):
             return
         if self._element(node, path, kind, ctx):
-            self._schema(node.get("schema"), _join(path, "schema"), ctx, depth + 1)
+            self._schema(node.get("schema"), at(path, "schema"), ctx, depth + 1)
             self._unique_name(node, path, names, "fields of the Object")
 
     def _map(self, node: dict[str, Any], path: str, context: list[str], depth: int) -> None:
         key = node.get("mapKey")
         if isinstance(key, dict) and "@type" not in key:
-            self._element(key, _join(path, "mapKey"), "MapKey", context)
+            self._element(key, at(path, "mapKey"), "MapKey", context)
             if key.get("schema") != "string":
-                self.problem(_join(path, "mapKey.schema"), 'a map key\'s schema must be "string"')
-        self._field(node.get("mapValue"), _join(path, "mapValue"), "MapValue", context, depth, {})
+                self.problem(at(path, "mapKey.schema"), 'a map key\'s schema must be "string"')
+        self._field(node.get("mapValue"), at(path, "mapValue"), "MapValue", context, depth, {})
 
     def _enum(self, node: dict[str, Any], path: str, context: list[str]) -> None:
         value_schema = node.get("valueSchema")
         if value_schema not in ("integer", "string"):
-            self.problem(_join(path, "valueSchema"), 'must be "integer" or "string"')
+            self.problem(at(path, "valueSchema"), 'must be "integer" or "string"')
         names: dict[str, str] = {}
         values: set[Any] = set()
-        for i, item in enumerate(_as_list(node.get("enumValues"))):
-            item_path = _join(path, f"enumValues[{i}]")
+        for i, item in enumerate(as_list(node.get("enumValues"))):
+            item_path = at(path, f"enumValues[{i}]")
             if not isinstance(item, dict) or not self._element(
                 item, item_path, "EnumValue", context
             ):
@@ -278,10 +238,10 @@ class _Checker:
             wanted = int if value_schema == "integer" else str
             if not isinstance(value, wanted) or isinstance(value, bool):
                 self.problem(
-                    _join(item_path, "enumValue"), f"must be {value_schema} as valueSchema says"
+                    at(item_path, "enumValue"), f"must be {value_schema} as valueSchema says"
                 )
             elif value in values:
-                self.problem(_join(item_path, "enumValue"), f"{value!r} is given twice")
+                self.problem(at(item_path, "enumValue"), f"{value!r} is given twice")
             values.add(value)
 
     # -- members common to every element -------------------------------------------------
@@ -299,22 +259,22 @@ class _Checker:
             if member not in node:
                 self.problem(path, f"a {kind} needs `{member}`")
         for member in node:
-            term = _term(member)
+            term = member_term(member)
             if term != member and term in node:
-                self.problem(_join(path, member), f"`{term}` is given twice (also as a DTMI)")
+                self.problem(at(path, member), f"`{term}` is given twice (also as a DTMI)")
             if member.startswith("@") and member not in ("@context", "@id", "@type"):
-                self.problem(_join(path, member), f"{member} is not allowed in a DTDL element")
+                self.problem(at(path, member), f"{member} is not allowed in a DTDL element")
             elif ":" in member and not member.startswith("dtmi:") and not member.startswith("@"):
-                self.problem(_join(path, member), "a member name with ':' must be a DTMI")
+                self.problem(at(path, member), "a member name with ':' must be a DTMI")
             elif not informal and not member.startswith("@") and term not in allowed:
-                self.problem(_join(path, member), f"a {kind} has no member `{member}`")
+                self.problem(at(path, member), f"a {kind} has no member `{member}`")
         if "@id" in node:
-            self._id(node["@id"], _join(path, "@id"), kind)
+            self._id(node["@id"], at(path, "@id"), kind)
         if "name" in node:
-            self._name(node["name"], _join(path, "name"))
+            self._name(node["name"], at(path, "name"))
         for member, limit in TEXT_MAX.items():
             if member in node:
-                self._text(node[member], _join(path, member), limit, member == "comment")
+                self._text(node[member], at(path, member), limit, member == "comment")
         return True
 
     def _co_types(
@@ -328,16 +288,16 @@ class _Checker:
         informal = False
         for value in types:
             if not isinstance(value, str):
-                self.problem(_join(path, "@type"), "must be a string or an array of strings")
+                self.problem(at(path, "@type"), "must be a string or an array of strings")
                 continue
             term = value.removeprefix("dtmi:dtdl:class:").split(";")[0]
             if term == kind:
                 continue
             if ":" in value and not DTMI.match(value):
-                self.problem(_join(path, "@type"), f"{value!r} is neither a DTDL term nor a DTMI")
+                self.problem(at(path, "@type"), f"{value!r} is neither a DTDL term nor a DTMI")
             elif term in SEMANTIC_TYPES and QUANTITATIVE_CONTEXT in context:
                 if kind not in SEMANTIC_HOSTS:
-                    self.problem(_join(path, "@type"), f"a {kind} cannot be a {term}")
+                    self.problem(at(path, "@type"), f"a {kind} cannot be a {term}")
                 co_types.append(term)
             elif any(c not in KNOWN_CONTEXTS for c in context):
                 informal = True  # defined, perhaps, by an extension we do not know
@@ -347,7 +307,7 @@ class _Checker:
                     if term in SEMANTIC_TYPES
                     else ""
                 )
-                self.problem(_join(path, "@type"), f"{value!r} is not defined{hint}")
+                self.problem(at(path, "@type"), f"{value!r} is not defined{hint}")
         return None if informal else co_types
 
     def _unit(self, node: dict[str, Any], path: str, co_types: list[str]) -> None:
@@ -355,13 +315,13 @@ class _Checker:
             unit_type = SEMANTIC_TYPES[semantic]
             if node.get("unit") not in UNIT_TYPES[unit_type]:
                 self.problem(
-                    _join(path, "unit"),
+                    at(path, "unit"),
                     f"a {semantic} needs a unit of {unit_type} "
                     f"({', '.join(sorted(UNIT_TYPES[unit_type])[:4])}, ...)",
                 )
         schema = node.get("schema")
         if "schema" in node and schema not in NUMERIC:
-            self.problem(_join(path, "schema"), "a semantic type needs a numeric schema")
+            self.problem(at(path, "schema"), "a semantic type needs a numeric schema")
 
     def _kind_of(self, node: Any, path: str, kinds: tuple[str, ...]) -> str | None:
         if not isinstance(node, dict):
@@ -373,7 +333,7 @@ class _Checker:
         for kind in kinds:
             if kind in terms:
                 return kind
-        self.problem(_join(path, "@type"), f"must include one of {', '.join(kinds)}")
+        self.problem(at(path, "@type"), f"must include one of {', '.join(kinds)}")
         return None
 
     def _context(self, node: dict[str, Any], path: str, outer: list[str], top: bool) -> list[str]:
@@ -381,7 +341,7 @@ class _Checker:
             return outer
         value = node["@context"]
         values = value if isinstance(value, list) else [value]
-        cpath = _join(path, "@context")
+        cpath = at(path, "@context")
         if not all(isinstance(v, str) for v in values):
             self.problem(cpath, "must be a string or an array of strings")
             return outer
@@ -427,7 +387,7 @@ class _Checker:
             self.problem(path, f"{text!r}: letters, digits and _, a letter first, not _ last")
 
     def _text(self, value: Any, path: str, limit: int, plain: bool) -> None:
-        for text in _texts(value, plain):
+        for text in element_texts(value, plain):
             if text is None:
                 self.problem(path, "must be a string" + ("" if plain else " or a language map"))
             elif len(text) > limit:
@@ -438,44 +398,6 @@ class _Checker:
         if not isinstance(name, str):
             return
         if name in seen:
-            self.problem(
-                _join(path, "name"), f"{name!r} is used twice in the {where} ({seen[name]})"
-            )
+            self.problem(at(path, "name"), f"{name!r} is used twice in the {where} ({seen[name]})")
         else:
             seen[name] = path
-
-
-def _texts(value: Any, plain: bool) -> Iterator[str | None]:
-    """The strings of a (localizable) string; None for a value of the wrong form."""
-    if isinstance(value, str):
-        yield value
-    elif isinstance(value, dict) and "@value" in value:
-        yield value["@value"] if isinstance(value["@value"], str) else None
-    elif isinstance(value, dict) and not plain:
-        for lang, text in value.items():
-            yield text if LANGUAGE.match(lang) and isinstance(text, str) else None
-    elif isinstance(value, list) and not plain:
-        for item in value:
-            yield from _texts(item, plain=True)
-    else:
-        yield None
-
-
-def _term(member: str) -> str:
-    if member.startswith("dtmi:dtdl:property:") and member.endswith(";3"):
-        return member[len("dtmi:dtdl:property:") : -2]
-    return member
-
-
-def _as_list(value: Any) -> list[Any]:
-    if value is None:
-        return []
-    return value if isinstance(value, list) else [value]
-
-
-def _is_int(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
-def _join(path: str, member: str) -> str:
-    return f"{path}.{member}" if path and not member.startswith("[") else path + member
