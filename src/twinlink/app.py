@@ -32,6 +32,7 @@ from twinlink.api import connectors as connectors_api
 from twinlink.api import cosims as cosims_api
 from twinlink.api import deployments as deployments_api
 from twinlink.api import gateway as gateway_api
+from twinlink.api import federation as federation_api
 from twinlink.api import history as history_api
 from twinlink.api import library as library_api
 from twinlink.api import mqtt as mqtt_api
@@ -53,6 +54,7 @@ from twinlink.deploy.apply import Parts
 from twinlink.deploy.runs import RunService
 from twinlink.deploy.service import DeploymentService
 from twinlink.gateway.metrics import GatewayCollector
+from twinlink.federation.service import Federation
 from twinlink.gateway.proxy import GatewayApp
 from twinlink.gateway.service import GatewayService
 from twinlink.history.maintenance import HistoryMaintenance
@@ -120,6 +122,7 @@ class Services:
     runs: RunService | None = None  # deployments' lifecycle runs (deploy/runs.py)
     cosims: CosimService | None = None  # co-simulations made through the API (cosim/)
 
+    federation: Federation | None = None  # other instances' twins (federation/)
 
 def build_services(settings: Settings) -> Services:
     stores = pick_storage(settings)
@@ -175,6 +178,7 @@ def build_services(settings: Settings) -> Services:
     services.search.library = services.library  # assets are found beside twins
     _add_dtaas_services(settings, services, vault, stores.holder)
     return services
+    services.federation = Federation.configured(settings, store, vault)
 
 
 def _add_dtaas_services(settings: Settings, services: Services, vault: Vault, node: str) -> None:
@@ -326,6 +330,8 @@ async def stop_services(services: Services) -> None:
     if services.cosims is not None:  # their runs stopped, their rows so far stored
         await services.cosims.close()
     if services.deployments is not None:  # terminate/clean phases no longer waited for
+    if services.federation is not None:  # fetches in flight cancelled, connections closed
+        await services.federation.aclose()
         await services.deployments.close()
     if services.runs is not None:  # their process groups killed, the runs cancelled
         await services.runs.close()
@@ -378,7 +384,7 @@ def create_app(
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
     routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api,
-                    cosims_api)  # fmt: skip
+                    cosims_api, federation_api)  # fmt: skip
     app.include_router(library_api.router)  # /api/v1/library
     for module in (*routers, *routers_more, workspaces_api, search, pages, app_ui):
         app.include_router(module.router)

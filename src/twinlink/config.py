@@ -227,6 +227,30 @@ class Settings(BaseSettings):
         description="MQTT for devices: embedded (the server listens itself), external (it "
         "subscribes to a broker you run) or off.",
     )
+    federation_hosts: str = Field(
+        "*",
+        description="Hosts whose documents may be fetched for relations and imports, comma "
+        "separated: `*` any public host, `*.example.org` a domain, `example.org` one host.",
+    )
+    federation_allow_private: bool = Field(
+        False,
+        description="Also fetch from loopback, private (RFC 1918, fc00::/7), link-local "
+        "(cloud metadata) and CGNAT addresses.",
+    )
+    federation_max_hops: int = Field(
+        5, ge=0, le=20, description="Redirects followed when fetching another instance's document."
+    )
+    federation_max_kb: int = Field(
+        1024, gt=0, description="Largest document fetched from another instance, in KB."
+    )
+    federation_timeout_s: float = Field(
+        5, gt=0, le=120, description="Time limit of one fetch from another instance, in seconds."
+    )
+    federation_stale_s: int = Field(
+        3600,
+        ge=0,
+        description="A remote twin's copy older than this many seconds is checked again when shown.",
+    )
     mqtt_host: str = Field("127.0.0.1", description="Address the embedded MQTT listener binds to.")
     mqtt_port: int = Field(
         1883, ge=0, le=65535, description="TCP port of the embedded MQTT listener (0 = any free)."

@@ -211,13 +211,18 @@ async def delete_part(slug: str, level: str, caller: Caller, reg: Registry) -> T
     response_model=RelationNode,
 )
 async def relations(
+    request: Request,
     slug: str,
     caller: Caller,
     reg: Registry,
     direction: Literal["down", "up"] = "down",
     depth: Annotated[int, Query(ge=1, le=32)] = 3,
 ) -> JSONAnswer:
-    return JSONAnswer(await reg.traverse(caller, slug, direction, depth))
+    tree = await reg.traverse(caller, slug, direction, depth)
+    federation = request.app.state.services.federation
+    if federation is not None:  # other instances' twins named by dt-id (docs/federation.md)
+        await federation.resolver.decorate(tree)
+    return JSONAnswer(tree)
 
 
 class RoleBody(BaseModel):

@@ -116,7 +116,11 @@ def page(title: str, body: str) -> str:
     )
 
 
-def twin_page(doc: dict[str, Any], slug: str) -> str:
+def twin_page(
+    doc: dict[str, Any], slug: str, remotes: dict[str, dict[str, Any]] | None = None
+) -> str:
+    """The twin's public page; `remotes` (federation/resolve.py) are the twins of other
+    instances it names, linked to their documents with their name and state."""
     name = str(doc.get("name") or slug)
     skip = {"name", "description", "features", "interface", "relations"}
     facts = "".join(
@@ -137,11 +141,29 @@ def twin_page(doc: dict[str, Any], slug: str) -> str:
     )
     if isinstance(relations, list) and relations:
         body += f"<section><h2>Relations</h2>{_value(relations)}</section>"
+    if remotes:
+        body += _remote_section(remotes)
     if features:
         body += f"<section><h2>Features</h2>{features}</section>"
     if isinstance(interface, dict):
         body += f"<section><h2>Interface</h2>{_value(interface)}</section>"
     return page(name, body)
+
+
+def _remote_section(remotes: dict[str, dict[str, Any]]) -> str:
+    rows = "".join(
+        f'<tr><td><a href="{escape(str(r.get("url") or ref), quote=True)}"'
+        ' rel="noopener noreferrer">'
+        f"{escape(str(r.get('name') or ref))}</a></td><td>{escape(ref)}</td>"
+        f"<td>{escape(str(r.get('state')))}</td>"
+        f"<td>{escape(str(r.get('fetched_at') or ''))}</td></tr>"
+        for ref, r in remotes.items()
+    )
+    return (
+        "<section><h2>Twins of other instances</h2>"
+        "<table><tr><th>Name</th><th>Id</th><th>State</th><th>Fetched</th></tr>"
+        f"{rows}</table></section>"
+    )
 
 
 def _feature(f: dict[str, Any]) -> str:

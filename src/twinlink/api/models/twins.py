@@ -56,14 +56,29 @@ class Parts(BaseModel):
     levels: list[str]
 
 
+class RemoteSummary(BaseModel):
+    """A twin of another instance a relation names (docs/federation.md)."""
+
+    url: str = Field(description="Where the document was fetched (its hosting-iri).")
+    name: str
+    state: str = Field(
+        description="reachable, stale or gone; pending (not fetched yet) or refused (by the "
+        "SSRF guard) when no copy is kept."
+    )
+    fetched_at: str | None = Field(description="When the copy was fetched (RFC 3339, UTC).")
+    remote_id: int | None = Field(None, description="The remote twin (/api/v1/remote-twins).")
+
+
 class RelationNode(BaseModel):
     """A twin in a relation tree; a related id that is not registered here has
-    `registered: false` and no slug or name."""
+    `registered: false` and no slug or name, and `remote` when it is another instance's
+    twin (an http(s) dt-id)."""
 
     id: str
     slug: str | None = None
     name: str | None = None
     registered: bool | None = None
+    remote: RemoteSummary | None = None
     nodes: list[RelationNode]
 
 
