@@ -50,6 +50,7 @@ from twinlink.domain.history import (
 )
 from twinlink.domain.jsontext import JsonTextError
 from twinlink.domain.samples import BatchError
+from twinlink.federation.guard import FetchFailed, FetchRefused
 from twinlink.gateway.exchange import GatewayProblem, problem_body
 from twinlink.history.params import QueryError
 from twinlink.live.protocol import LiveMessageError
@@ -143,6 +144,7 @@ TITLES = {
     409: "Conflict",
     413: "Content too large",
     422: "Unprocessable content",
+    502: "Bad gateway",
     503: "Service unavailable",
     507: "Insufficient storage",
 }
@@ -216,6 +218,12 @@ CASES = [
         headers=BUS_RETRY,
     ),
     Case(UnencodableMessageError("no form for a set"), 422, "no form for a set"),
+    Case(
+        FetchRefused("'http://10.0.0.1/': a private address"),
+        422,
+        "'http://10.0.0.1/': a private address",
+    ),
+    Case(FetchFailed("'https://x.org/t' answered 500", 500), 502, "'https://x.org/t' answered 500"),
     Case(CosimFormatError("mm.json: fmus is not a map"), 422, "mm.json: fmus is not a map"),
     Case(CosimRunError("msd1.m1 (mass.fmu) failed"), 422, "msd1.m1 (mass.fmu) failed"),
     Case(
