@@ -45,6 +45,11 @@ class Settings(BaseSettings):
         description="Base URL the platform is reached at, used for generated twin ids and links. "
         "Empty means http://{host}:{port}.",
     )
+    site_owner: str = Field(
+        "",
+        description="The dt-id (a URL) of whoever runs this instance, given as `owner` in the "
+        "Twinbase-style root index (/index.json). Empty means the public URL.",
+    )
     admin_token: SecretStr | None = Field(
         None,
         description="Preset API token for the first admin (for automation). When unset, the first "

@@ -29,7 +29,14 @@ pytestmark = pytest.mark.integration
 
 # The routes the policy lets through without a token. Everything else needs one.
 NO_TOKEN_OK = {("GET", "/healthz"), ("GET", "/readyz"), ("POST", "/api/v1/auth/login")}
-PUBLIC_DOCUMENT_ROUTES = {"/twins/{slug}", "/twins/{slug}/index.yaml", "/twins/{slug}/index.json"}
+PUBLIC_DOCUMENT_ROUTES = {
+    "/twins/{slug}",
+    "/twins/{slug}/index.yaml",
+    "/twins/{slug}/index.json",
+    "/twins/{slug}/index.html",
+}
+# Twinbase's root index: without a token it lists the twins with a public part.
+SITE_INDEX_ROUTES = {"/index.yaml", "/index.json"}
 
 
 @dataclass
@@ -91,6 +98,7 @@ def _operations(server: Server) -> list[tuple[str, str]]:
         "/api/v1/search",
         "/metrics",
         *PUBLIC_DOCUMENT_ROUTES,
+        *SITE_INDEX_ROUTES,
     } <= paths
     return ops
 
@@ -158,7 +166,7 @@ def test_every_route_needs_a_token_except_health_login_and_public_documents(
             assert r.status_code < 500, f"{method} {url}: {r.status_code} {r.text[:300]}"
             if (method, path) in NO_TOKEN_OK:
                 assert r.status_code != 401, f"{method} {path} must not need a token"
-            elif path in PUBLIC_DOCUMENT_ROUTES:
+            elif path in PUBLIC_DOCUMENT_ROUTES | SITE_INDEX_ROUTES:
                 assert r.status_code == 200, f"{method} {url}: {r.text[:300]}"
             else:
                 assert_problem(r, 401)

@@ -180,6 +180,9 @@ def _twins_and_devices(w: Walk) -> str:
     w.ok(w.admin.get(f"/api/v1/twins/{w.slug}-child/relations", params={"direction": "up"}))
     for path, accept in (("", "text/html"), ("/index.yaml", "*/*"), ("/index.json", "*/*")):
         w.ok(w.admin.get(f"/twins/{w.slug}{path}", headers={"Accept": accept}))
+    w.ok(w.admin.get(f"/twins/{w.slug}/index.html"))
+    w.ok(w.admin.get("/index.yaml"))
+    w.ok(w.admin.get("/index.json"))
     w.ok(w.admin.get("/api/v1/search", params={"q": "contract"}))
     viewer = unique("viewer")
     make_user(w.server, viewer)

@@ -200,6 +200,9 @@ def index_page(twins: list[dict[str, Any]], signed_in: bool) -> str:
             "<section><h1>Digital twins</h1>"
             '<p><a href="/app/"><b>Open the web app</b></a></p>'
             + note
+            # Twinbase's root index: what its clients and other instances read.
+            + "<p class=muted>This list in Twinbase's layout: "
+            '<a href="/index.yaml">YAML</a> · <a href="/index.json">JSON</a></p>'
             + f"<table><tr><th>Name</th><th>Id</th></tr>{rows}</table></section>"
             '<section><h2>API</h2><p><a href="/docs">Interactive API documentation</a> · '
             '<a href="/healthz">health</a></p></section>'
