@@ -24,6 +24,7 @@ from twinlink.api import (
     problems,
     processors,
     properties,
+    remote,
     search,
     system,
     twins,
@@ -386,7 +387,7 @@ def create_app(
     routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api,
                     cosims_api, federation_api)  # fmt: skip
     app.include_router(library_api.router)  # /api/v1/library
-    for module in (*routers, *routers_more, workspaces_api, search, pages, app_ui):
+    for module in (*routers, *routers_more, workspaces_api, search, remote, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

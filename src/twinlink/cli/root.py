@@ -18,6 +18,7 @@ from twinlink.cli.cosim import cosim
 from twinlink.cli.deploy import deploy
 from twinlink.cli.gateway import audit, service_accounts, services
 from twinlink.cli.history import history
+from twinlink.cli.importing import import_
 from twinlink.cli.library import lib
 from twinlink.cli.processors import blueprints, fmus, processors
 from twinlink.cli.search import search
@@ -70,6 +71,7 @@ COMMANDS: tuple[click.Command, ...] = (
     logout,
     apply,
     search,
+    import_,
     twins,
     devices,
     users,

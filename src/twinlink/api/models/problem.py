@@ -15,6 +15,7 @@ MEANINGS = {
     409: "The change conflicts with what is stored (a name taken, a thing in use)",
     413: "The body is larger than the server takes",
     422: "A parameter or the body is not valid; `errors` says where",
+    502: "Another instance could not be read (unreachable, too slow, not a document)",
     503: "Storage failed or a read ran over its time budget; try again (Retry-After)",
     507: "The disk is full: nothing was stored; try again once space is freed",
 }
