@@ -19,7 +19,7 @@ from basyx.aas.adapter.json import json_deserialization, json_serialization
 from basyx.aas.examples.data._helper import AASDataChecker
 
 from twinlink.domain.document import Interface, validate_part
-from twinlink.domain.errors import InvalidInputError
+from twinlink.domain.errors import DocumentError, InvalidInputError
 from twinlink.domain.yamlsource import SourceDocument
 from twinlink.formats import _aas_export
 from twinlink.formats import _aas_model as m
@@ -339,6 +339,17 @@ def test_import_of_another_tools_shell_reads_its_data_elements_and_operations() 
         "commands": [{"name": "Reset", "parameters": [{"name": "delay", "type": "integer"}]}],
     }
     validate_part(SourceDocument({"version": "1.0", **fragment}))
+
+
+def test_import_refuses_what_the_document_checks_refuse() -> None:
+    env = third_party_environment()
+    pressure = env["submodels"][0]["submodelElements"][2]
+    pressure["min"], pressure["max"] = "9.0", "1.0"
+    with pytest.raises(DocumentError) as caught:
+        import_aas(env)
+    (problem,) = caught.value.problems
+    assert problem.path == "interface.signals[2]"
+    assert "min (9.0) is greater than max (1.0)" in problem.message
 
 
 # --- validation ---------------------------------------------------------------------
