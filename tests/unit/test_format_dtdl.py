@@ -323,7 +323,8 @@ BASE: dict[str, Any] = {
     ],
 }
 
-Edit = Callable[[dict[str, Any]], None]
+# An edit changes the model in place, or returns the model to check instead (a list).
+Edit = Callable[[dict[str, Any]], Any]
 
 
 def _set(path: str, value: Any) -> Edit:
@@ -355,6 +356,21 @@ def _drop(path: str) -> Edit:
 
 def _add_content(element: dict[str, Any]) -> Edit:
     return lambda model: model["contents"].append(element)
+
+
+def _beside(edit: Edit, name: str) -> Edit:
+    """The edit, and the model as a list with the Interface `name` defined beside it."""
+
+    def model(base: dict[str, Any]) -> list[dict[str, Any]]:
+        edit(base)
+        return [base, {"@context": "dtmi:dtdl:context;3", **_inner(name)}]
+
+    return model
+
+
+def _inner(name: str) -> dict[str, Any]:
+    """An Interface defined inline (a reference to one outside the model is incomplete)."""
+    return {"@id": f"dtmi:com:example:{name};1", "@type": "Interface"}
 
 
 def _plain_context(model: dict[str, Any]) -> None:
@@ -470,9 +486,9 @@ RULES: list[tuple[str, Edit, Edit, str]] = [
     ),
     (
         "displayName length",
-        _set("displayName", "c" * 64),
-        _set("displayName", "c" * 65),
-        "at most 64 characters",
+        _set("displayName", "c" * 512),  # the specification's limit, and DTDLParser's
+        _set("displayName", "c" * 513),
+        "at most 512 characters",
     ),
     (
         "description length",
@@ -530,7 +546,7 @@ RULES: list[tuple[str, Edit, Edit, str]] = [
     ),
     (
         "contents hold content elements",
-        _add_content({"@type": "Component", "name": "c", "schema": "dtmi:com:example:Camera;1"}),
+        _add_content({"@type": "Component", "name": "c", "schema": _inner("Camera")}),
         _add_content({"@type": "Object", "fields": []}),
         "must include one of Command",
     ),
@@ -593,6 +609,21 @@ RULES: list[tuple[str, Edit, Edit, str]] = [
         ),
         _set("contents.1.schema", "dtmi:com:example:v;1"),
         "is not defined in this model",
+    ),
+    (
+        "a Component's Interface is defined in the model",
+        _beside(
+            _add_content({"@type": "Component", "name": "c", "schema": "dtmi:com:example:Cam;1"}),
+            "Cam",
+        ),
+        _add_content({"@type": "Component", "name": "c", "schema": "dtmi:com:example:Cam;1"}),
+        "dtmi:com:example:Cam;1 is not defined in this model",
+    ),
+    (
+        "an extended Interface is defined in the model",
+        _beside(_set("extends", "dtmi:com:example:Base;1"), "Base"),
+        _set("extends", "dtmi:com:example:Base;1"),
+        "dtmi:com:example:Base;1 is not defined in this model",
     ),
     (
         "a schema in `schemas` has an @id",
@@ -773,14 +804,14 @@ RULES: list[tuple[str, Edit, Edit, str]] = [
     ),
     (
         "extends takes DTMIs or Interfaces",
-        _set("extends", "dtmi:com:example:Base;1"),
+        _set("extends", _inner("Base")),
         _set("extends", "Base"),
         "`extends` takes DTMIs or Interfaces",
     ),
     (
         "extends at most 1024 Interfaces",
-        _set("extends", [f"dtmi:ex:b{i};1" for i in range(1024)]),
-        _set("extends", [f"dtmi:ex:b{i};1" for i in range(1025)]),
+        _set("extends", [_inner(f"B{i}") for i in range(1024)]),
+        _set("extends", [_inner(f"B{i}") for i in range(1025)]),
         "more than 1024 Interfaces",
     ),
     (
@@ -815,8 +846,8 @@ def test_base_model_is_valid() -> None:
     ("valid", "broken", "words"), [r[1:] for r in RULES], ids=[r[0] for r in RULES]
 )
 def test_rule(valid: Edit, broken: Edit, words: str) -> None:
-    good = copy.deepcopy(BASE)
-    valid(good)
+    good: Any = copy.deepcopy(BASE)
+    good = valid(good) or good
     assert validate_dtdl(good) == []
     bad = copy.deepcopy(BASE)
     broken(bad)

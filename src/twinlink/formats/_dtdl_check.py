@@ -74,7 +74,7 @@ class _Checker:
                 self.problem(
                     path,
                     f"{dtmi} is not defined in this model (the model is incomplete): "
-                    "define the schema in the Interface's `schemas`, or inline",
+                    "define it in the model (a schema in the Interface's `schemas`), or inline",
                 )
         return self.problems
 
@@ -109,7 +109,9 @@ class _Checker:
             parent_path = at(path, f"extends[{i}]")
             if isinstance(parent, dict):
                 self._interface(parent, parent_path, context, top=False)
-            elif not (isinstance(parent, str) and DTMI.match(parent)):
+            elif isinstance(parent, str) and DTMI.match(parent):
+                self.references.append((parent, parent_path))
+            else:
                 self.problem(parent_path, "`extends` takes DTMIs or Interfaces")
         if top and self.elements > MAX_ELEMENTS:
             self.problem(path, f"{self.elements} elements under contents; DTDL allows 100000")
@@ -132,7 +134,9 @@ class _Checker:
             schema = node.get("schema")
             if isinstance(schema, dict):
                 self._interface(schema, at(path, "schema"), context, top=False)
-            elif not (isinstance(schema, str) and DTMI.match(schema)):
+            elif isinstance(schema, str) and DTMI.match(schema):
+                self.references.append((schema, at(path, "schema")))
+            else:
                 self.problem(at(path, "schema"), "a Component's schema is an Interface")
 
     def _payload(self, value: Any, path: str, member: str, context: list[str]) -> None:

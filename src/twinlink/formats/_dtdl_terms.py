@@ -22,7 +22,9 @@ LANGUAGE = re.compile(r"^[a-z]{2,4}(-[A-Z][a-z]{3})?(-([A-Z]{2}|[0-9]{3}))?$")
 INTERFACE_DTMI_MAX = 128
 DTMI_MAX = 2048
 NAME_MAX = 512
-TEXT_MAX = {"comment": 512, "description": 512, "displayName": 64}
+# The specification's limits; DTDL.v3.md's tables say 64 for displayName, but the normative
+# text and Microsoft's DTDLParser allow 512 (the export keeps to 64 all the same).
+TEXT_MAX = {"comment": 512, "description": 512, "displayName": 512}
 MAX_ELEMENTS = 100_000
 MAX_SCHEMA_DEPTH = 5
 MAX_EXTENDS = 1024
