@@ -23,8 +23,10 @@ CTX = ExportContext(
     twin_url="https://dt.example.org/twins/tingen",
     api_url="https://dt.example.org/api/v1",
     slug="tingen",
-    mqtt_url="mqtt://dt.example.org:1883",
+    mqtt_url="mqtt://broker.example.org:1883",
     ws_url="wss://dt.example.org/api/v1/live",
+    mqtt_topic_prefix="plant/twins",
+    mqtt_external=True,
 )
 PLAIN = ExportContext(
     twin_url="https://dt.example.org/twins/tingen",
@@ -156,9 +158,9 @@ def test_tingen_exports_to_a_valid_td_with_real_endpoints() -> None:
         "?signals=Cantilever_Angle_radians"
     )
     assert by_op["observeproperty"]["href"] == "wss://dt.example.org/api/v1/live"
-    assert by_op["mqtt"]["href"] == "mqtt://dt.example.org:1883"
-    assert by_op["mqtt"]["mqv:filter"] == "twinlink/tingen/+/telemetry"
-    assert by_op["mqtt"]["security"] == ["device_sc"]
+    assert by_op["mqtt"]["href"] == "mqtt://broker.example.org:1883"
+    assert by_op["mqtt"]["mqv:filter"] == "plant/twins/tingen/+/telemetry"
+    assert by_op["mqtt"]["security"] == ["broker_sc"]
     # A writable property: PATCH of the desired values, on the default device.
     rate = td["properties"]["sample_rate"]
     assert (rate["readOnly"], rate["observable"]) == (False, False)
@@ -182,12 +184,24 @@ def test_tingen_exports_to_a_valid_td_with_real_endpoints() -> None:
     assert "input" not in td["actions"]["pause"]
 
 
-def test_without_mqtt_the_export_has_no_mqtt_forms() -> None:
-    td = export_wot(tingen(), PLAIN)
+@pytest.mark.parametrize("mqtt_url", [None, "mqtt://dt.example.org:1883"])
+def test_without_an_external_broker_the_export_has_no_mqtt_forms(mqtt_url: str | None) -> None:
+    # The embedded listener forwards nothing between clients: no one could observe there.
+    ctx = ExportContext(PLAIN.twin_url, PLAIN.api_url, PLAIN.slug, mqtt_url=mqtt_url)
+    td = export_wot(tingen(), ctx)
     assert validate_wot(td) == []
-    assert "mqv" not in td["@context"][1] and "device_sc" not in td["securityDefinitions"]
+    assert "broker_sc" not in td["securityDefinitions"]
     by_op = forms(td, "properties", "Cantilever_Angle_radians")
     assert set(by_op) == {"readproperty", "observeproperty"}
+    # Where the twin's devices send is linked: HTTP, the device WebSocket, the listener.
+    ingest = [link for link in td["links"] if link["rel"] == "twinlink:deviceIngest"]
+    assert [link["href"] for link in ingest] == [
+        "https://dt.example.org/api/v1/device/samples",
+        "wss://dt.example.org/api/v1/device/ws",
+        *([mqtt_url] if mqtt_url else []),
+    ]
+    if mqtt_url:
+        assert ingest[-1]["mqv:topic"] == "twinlink/tingen/{device}/telemetry"
     # The live WebSocket is served beside the API whether or not the caller named it.
     assert by_op["observeproperty"]["href"] == "wss://dt.example.org/api/v1/live"
 

@@ -22,3 +22,8 @@ class ExportContext:
     # The first level(s) of every MQTT topic (TWINLINK_MQTT_TOPIC_PREFIX): topics are
     # {prefix}/{slug}/{device}/... (docs/mqtt.md "Topics").
     mqtt_topic_prefix: str = "twinlink"
+    # Whether mqtt_url is a broker of your own (TWINLINK_MQTT_MODE=external), which delivers
+    # devices' telemetry to any client it lets subscribe. The embedded listener forwards
+    # nothing between clients, so its topics are the devices' alone and a TD gives no MQTT
+    # form for it (docs/formats.md "WoT Thing Description").
+    mqtt_external: bool = False

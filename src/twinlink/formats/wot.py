@@ -13,7 +13,8 @@ Mapping (docs/formats.md, "WoT Thing Description"):
 - a command becomes an action whose `input` is an object schema of its parameters.
 
 Every form points at this instance's real endpoints (from ExportContext) and needs a user
-token (`bearer_sc`); the MQTT forms, when the listener runs, need a device's credentials.
+token (`bearer_sc`); the MQTT forms, given for a broker of your own (external mode), need the
+broker's credentials.
 The import is in _wot_import.py.
 """
 
@@ -39,6 +40,7 @@ MQV = "https://www.w3.org/2019/wot/mqtt#"  # the MQTT binding's vocabulary (wot-
 # to be a page that can be fetched.
 TWINLINK_NS = "urn:twinlink:interface#"
 POLICY_TERM = "twinlink:interface"
+DEVICE_REL = "twinlink:deviceIngest"  # links to where the twin's devices send telemetry
 SCHEMA_FILE = Path(__file__).parent / "schemas" / "td-json-schema-validation.json"
 TELEMETRY = "telemetry"  # the default stream, where devices send unless they name another
 _TYPES = {"number": "number", "integer": "integer", "bool": "boolean", "string": "string"}
@@ -51,8 +53,10 @@ _PASSED_ACTION = ("@type", "title", "output")
 def export_wot(document: dict[str, Any], ctx: ExportContext) -> dict[str, Any]:
     """The TD 1.1 of a twin, from the document a reader gets."""
     interface = document.get("interface") or {}
-    mqtt = ctx.mqtt_url is not None
-    context: list[Any] = [TD_CONTEXT, {"twinlink": TWINLINK_NS, **({"mqv": MQV} if mqtt else {})}]
+    mqtt = ctx.mqtt_url is not None and ctx.mqtt_external
+    context: list[Any] = [TD_CONTEXT, {"twinlink": TWINLINK_NS}]
+    if ctx.mqtt_url:
+        context[1]["mqv"] = MQV
     td: dict[str, Any] = {"@context": context, "@type": "Thing"}
     global_id = document.get("id") or document.get("dt-id")
     td["id"] = str(global_id) if global_id else ctx.twin_url
@@ -136,22 +140,28 @@ def _security_definitions(mqtt: bool) -> dict[str, Any]:
         }
     }
     if mqtt:
-        schemes["device_sc"] = {
+        schemes["broker_sc"] = {
             "scheme": "basic",
             "description": (
-                "MQTT: a device token (tld_...) as the CONNECT password (the user name is "
-                "free). The embedded listener admits only the twin's devices, each to its "
-                "own topics; a broker of your own (external mode) decides itself."
+                "MQTT: a user name and password of the broker's own, which twinlink neither "
+                "issues nor checks; the broker's access list must let the user read the "
+                "twin's topics."
             ),
         }
     return schemes
 
 
 def _links(document: dict[str, Any], ctx: ExportContext) -> list[dict[str, Any]]:
-    """The twin's document, and the twins it names in `relations` by a URL id."""
+    """The twin's document, where its devices send (the device's side, which no TD operation
+    describes: a TD's operations are a consumer's), and the twins it relates to by URL."""
     links: list[dict[str, Any]] = [
         {"rel": "describedby", "href": ctx.twin_url, "type": "application/yaml"},
+        {"rel": DEVICE_REL, "href": f"{ctx.api_url}/device/samples", "type": _JSON},
+        {"rel": DEVICE_REL, "href": f"{_ws_base(ctx.api_url)}/device/ws", "type": _JSON},
     ]
+    if ctx.mqtt_url:
+        topic = f"{ctx.mqtt_topic_prefix}/{ctx.slug}/{{device}}/{TELEMETRY}"
+        links.append({"rel": DEVICE_REL, "href": ctx.mqtt_url, "type": _JSON, "mqv:topic": topic})
     for relation in document.get("relations") or []:
         if not isinstance(relation, dict):
             continue
@@ -199,7 +209,7 @@ def _signal_forms(name: str, ctx: ExportContext, observe: tuple[str, str]) -> li
         latest = f"{stream}/latest?signals={quote(name, safe='')}"
         forms.append({"op": "readproperty", "href": latest, "contentType": _JSON})
     forms.append({"op": list(observe), "href": _live_url(ctx), "contentType": _JSON})
-    if ctx.mqtt_url:
+    if ctx.mqtt_url and ctx.mqtt_external:
         topic = f"{ctx.mqtt_topic_prefix}/{ctx.slug}/+/{TELEMETRY}"
         forms.append(
             {
@@ -209,7 +219,7 @@ def _signal_forms(name: str, ctx: ExportContext, observe: tuple[str, str]) -> li
                 "mqv:filter": topic,
                 "mqv:controlPacket": "subscribe",
                 "mqv:qos": "1",
-                "security": ["device_sc"],
+                "security": ["broker_sc"],
             }
         )
     return forms
@@ -217,10 +227,12 @@ def _signal_forms(name: str, ctx: ExportContext, observe: tuple[str, str]) -> li
 
 def _live_url(ctx: ExportContext) -> str:
     """The live WebSocket: every instance serves it beside its API (docs/protocol.md)."""
-    if ctx.ws_url:
-        return ctx.ws_url
-    scheme, sep, rest = ctx.api_url.partition("://")
-    return f"{'wss' if scheme == 'https' else 'ws'}{sep}{rest}/live"
+    return ctx.ws_url or f"{_ws_base(ctx.api_url)}/live"
+
+
+def _ws_base(api_url: str) -> str:
+    scheme, sep, rest = api_url.partition("://")
+    return f"{'wss' if scheme == 'https' else 'ws'}{sep}{rest}"
 
 
 def _property(prop: dict[str, Any], interface: dict[str, Any], ctx: ExportContext) -> Any:
