@@ -30,7 +30,8 @@ from twinlink.formats._aas_model import Store
 from twinlink.formats.context import ExportContext
 
 MEDIA_TYPE = "application/json"
-AASX_MEDIA_TYPE = "application/asset-administration-shell-package"
+# AAS Part 2 names the package so (the /serialization operation's answer).
+AASX_MEDIA_TYPE = "application/asset-administration-shell-package+xml"
 _TOP_LEVEL = ("assetAdministrationShells", "submodels", "conceptDescriptions")
 
 
