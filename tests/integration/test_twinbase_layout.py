@@ -71,8 +71,10 @@ def test_the_root_index_has_twinbases_shape_and_only_what_the_caller_may_see(
     with server.client() as anon:
         as_json = anon.get("/index.json")
         as_yaml = anon.get("/index.yaml")
+        page = anon.get("/index.html")
     with server.admin as admin:
         signed_in = admin.get("/index.json")
+    assert 'href="/index.json"' in page.text and "Listed crane" in page.text
     assert as_json.headers["content-type"] == "application/json"
     assert as_yaml.headers["content-type"].startswith("application/yaml")
     index = as_json.json()
