@@ -207,8 +207,8 @@ def test_published_examples_import(path: Path) -> None:
     assert fragment["name"]
 
 
-def test_published_v3_examples_validate() -> None:
-    for path in sorted(FIXTURES.glob("v3-*.json")):
+def test_published_examples_validate() -> None:
+    for path in sorted(FIXTURES.glob("*.json")):
         assert validate_dtdl(json.loads(path.read_text())) == [], path.name
 
 
@@ -395,10 +395,10 @@ RULES: list[tuple[str, Edit, Edit, str]] = [
         'needs "@context"',
     ),
     (
-        "context is DTDL v3",
+        "context is a DTDL version",
         _plain_context,
-        _set("@context", "dtmi:dtdl:context;2"),
-        "is not DTDL v3",
+        _set("@context", "dtmi:dtdl:context;9"),
+        "this checker knows DTDL v3 and v2",
     ),
     (
         "context values are versioned DTMIs",
@@ -876,3 +876,14 @@ def test_problems_name_the_path() -> None:
     assert validate_dtdl(bad) == [
         "contents[2].request.schema: 'decimal' is not a DTDL schema (double, string, ...) or a DTMI"
     ]
+
+
+def test_dtdl_v2_models_are_checked_by_v2s_differences() -> None:
+    v2 = json.loads((FIXTURES / "v2-thermostat-1.json").read_text())
+    v2["contents"][3]["request"]["@type"] = "CommandPayload"  # v2's name for a request
+    assert validate_dtdl(v2) == []  # semantic types built in, no extension context
+    v2["contents"][0]["name"] = "t" * 65
+    assert validate_dtdl(v2) == ["contents[0].name: at most 64 characters, not 65"]
+    v3 = copy.deepcopy(BASE)
+    v3["contents"][2]["request"]["@type"] = "CommandPayload"
+    assert validate_dtdl(v3) == ["contents[2].request.@type: must include one of CommandRequest"]

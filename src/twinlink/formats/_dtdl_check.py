@@ -16,6 +16,7 @@ from twinlink.formats._dtdl_terms import (
     COMMON,
     COMPLEX_TYPES,
     CONTENT_TYPES,
+    DTDL_V2_CONTEXT,
     DTDL_V3_CONTEXT,
     DTMI,
     DTMI_MAX,
@@ -35,6 +36,8 @@ from twinlink.formats._dtdl_terms import (
     RESERVED_PREFIXES,
     SEMANTIC_HOSTS,
     TEXT_MAX,
+    V2_MAX_CONTENTS,
+    V2_NAME_MAX,
     as_list,
     at,
     element_texts,
@@ -49,6 +52,9 @@ def validate_dtdl(data: dict[str, Any] | list[Any]) -> list[str]:
     return _Checker(data).run()
 
 
+PAYLOADS = ("CommandRequest", "CommandResponse")
+
+
 class _Checker:
     def __init__(self, data: Any) -> None:
         self.data = data
@@ -56,6 +62,11 @@ class _Checker:
         self.ids: dict[str, str] = {}  # @id -> the path that declared it first
         self.references: list[tuple[str, str]] = []  # (DTMI, path) of schema references
         self.elements = 0
+        self.language = DTDL_V3_CONTEXT  # the DTDL context of the Interface being checked
+
+    @property
+    def v2(self) -> bool:
+        return self.language == DTDL_V2_CONTEXT
 
     def run(self) -> list[str]:
         roots = self.data if isinstance(self.data, list) else [self.data]
@@ -64,6 +75,8 @@ class _Checker:
         for index, root in enumerate(roots):
             path = f"[{index}]" if isinstance(self.data, list) else ""
             self.elements = 0
+            contexts = as_list(root.get("@context"))
+            self.language = DTDL_V2_CONTEXT if DTDL_V2_CONTEXT in contexts else DTDL_V3_CONTEXT
             if self._kind_of(root, path, ("Interface",)):
                 self._interface(root, path, [], top=True)
             size = len(json.dumps(root, ensure_ascii=False).encode())
@@ -90,6 +103,8 @@ class _Checker:
         if not self._element(node, path, "Interface", context):
             return
         contents = as_list(node.get("contents"))
+        if self.v2 and len(contents) > V2_MAX_CONTENTS:
+            self.problem(at(path, "contents"), f"DTDL v2 allows {V2_MAX_CONTENTS} contents")
         names: dict[str, str] = {}
         for i, child in enumerate(contents):
             child_path = at(path, f"contents[{i}]")
@@ -149,7 +164,8 @@ class _Checker:
         if not isinstance(value, dict):
             self.problem(path, f"must be a {kind}: an object with name and schema")
             return
-        if "@type" in value and not self._kind_of(value, path, (kind,)):
+        kinds = (kind, "CommandPayload") if self.v2 else (kind,)
+        if "@type" in value and not self._kind_of(value, path, kinds):
             return
         if self._element(value, path, kind, context):
             self._schema(value.get("schema"), at(path, "schema"), context, 0)
@@ -295,11 +311,11 @@ class _Checker:
                 self.problem(at(path, "@type"), "must be a string or an array of strings")
                 continue
             term = value.removeprefix("dtmi:dtdl:class:").split(";")[0]
-            if term == kind:
+            if term == kind or (self.v2 and term == "CommandPayload" and kind in PAYLOADS):
                 continue
             if ":" in value and not DTMI.match(value):
                 self.problem(at(path, "@type"), f"{value!r} is neither a DTDL term nor a DTMI")
-            elif term in SEMANTIC_TYPES and QUANTITATIVE_CONTEXT in context:
+            elif term in SEMANTIC_TYPES and (self.v2 or QUANTITATIVE_CONTEXT in context):
                 if kind not in SEMANTIC_HOSTS:
                     self.problem(at(path, "@type"), f"a {kind} cannot be a {term}")
                 co_types.append(term)
@@ -352,19 +368,19 @@ class _Checker:
         for v in values:
             if not (DTMI.match(v) and ";" in v):
                 self.problem(cpath, f"{v!r} is not a DTMI with a version")
-            elif v.startswith("dtmi:dtdl:context;") and v != DTDL_V3_CONTEXT:
-                self.problem(cpath, f"{v} is not DTDL v3 (this checker applies v3's rules)")
+            elif v.startswith("dtmi:dtdl:context;") and v != self.language:
+                self.problem(cpath, f"{v}: this checker knows DTDL v3 and v2, one a model")
             elif v not in KNOWN_CONTEXTS:
                 self.problem(cpath, f"{v}: an extension this checker does not know")
-        if top and DTDL_V3_CONTEXT not in values:
+        if top and self.language not in values:
             self.problem(cpath, f"must include {DTDL_V3_CONTEXT}")
         others = [v for v in values if not v.startswith("dtmi:dtdl:context;")]
         if (
-            DTDL_V3_CONTEXT in values
+            self.language in values
             and others
-            and values.index(others[0]) < values.index(DTDL_V3_CONTEXT)
+            and values.index(others[0]) < values.index(self.language)
         ):
-            self.problem(cpath, f"{DTDL_V3_CONTEXT} must come before the extensions")
+            self.problem(cpath, f"{self.language} must come before the extensions")
         return [*outer, *values]
 
     def _id(self, value: Any, path: str, kind: str) -> None:
@@ -385,8 +401,8 @@ class _Checker:
         text = value.get("@value") if isinstance(value, dict) else value
         if not isinstance(text, str):
             self.problem(path, "must be a string")
-        elif len(text) > NAME_MAX:
-            self.problem(path, f"at most {NAME_MAX} characters, not {len(text)}")
+        elif len(text) > (limit := V2_NAME_MAX if self.v2 else NAME_MAX):
+            self.problem(path, f"at most {limit} characters, not {len(text)}")
         elif not NAME_PATTERN.match(text):
             self.problem(path, f"{text!r}: letters, digits and _, a letter first, not _ last")
 

@@ -13,6 +13,7 @@ from twinlink.formats._dtdl_units import QUANTITATIVE_CONTEXT
 # An export's note for what DTDL cannot say, in an element's `comment` (docs/formats.md "DTDL").
 NOTE_PREFIX = "twinlink: "
 DTDL_V3_CONTEXT = "dtmi:dtdl:context;3"
+DTDL_V2_CONTEXT = "dtmi:dtdl:context;2"
 DTMI = re.compile(
     r"^dtmi:[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?(?::[A-Za-z](?:[A-Za-z0-9_]*[A-Za-z0-9])?)*"
     r"(?:;[1-9][0-9]{0,8}(?:\.[1-9][0-9]{0,5})?)?$"
@@ -77,7 +78,11 @@ REQUIRED: dict[str, tuple[str, ...]] = {
 # Element types a QuantitativeTypes semantic type may co-type (and then give a `unit`).
 SEMANTIC_HOSTS = {"CommandRequest", "CommandResponse", "Field", "MapValue", "Property"}
 SEMANTIC_HOSTS.add("Telemetry")
-KNOWN_CONTEXTS = {DTDL_V3_CONTEXT, QUANTITATIVE_CONTEXT}
+KNOWN_CONTEXTS = {DTDL_V3_CONTEXT, DTDL_V2_CONTEXT, QUANTITATIVE_CONTEXT}
+# DTDL v2 differs in a few rules this checker applies: names of at most 64 characters, at
+# most 300 contents, semantic types built in, CommandPayload for requests and responses.
+V2_NAME_MAX = 64
+V2_MAX_CONTENTS = 300
 
 
 def element_texts(value: Any, plain: bool) -> Iterator[str | None]:
