@@ -157,6 +157,7 @@ FMU_SOURCES = {
     "incubator_controller": ROOT / "tests" / "fmus" / "incubator_controller",
     "incubator_kalman": ROOT / "tests" / "fmus" / "incubator_kalman",
     "chain_mass": ROOT / "tests" / "fmus" / "chain_mass",
+    "maxstep": ROOT / "tests" / "fmus" / "maxstep",
 }
 
 
@@ -184,5 +185,6 @@ def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
     and "stair3" (FMI 3.0) (tests/fmus), the co-simulated mass-spring-damper pair
     "msd_mass" and "msd_spring", the Incubator's "incubator_plant", "incubator_controller" and
     "incubator_kalman", and "chain_mass", one mass of a chain (FMI 2.0); "msd_mass_me" is
-    msd_mass as model exchange only (FMI 2.0); "ticks" discards every step passing a tick."""
+    msd_mass as model exchange only (FMI 2.0); "ticks" discards every step passing a tick;
+    "maxstep" tells the time to its next tick through fmi2GetMaxStepsize."""
     return FmuFiles(tmp_path_factory.mktemp("fmus"))

@@ -1,6 +1,8 @@
 """The var-step master: accuracy for fewer steps than a fixed step, rejected steps rolled back
 (FMI 2 FMU state), a step an FMU ends early redone up to there by all, and without rollback
-a run that adapts but never rejects, saying so."""
+a run that adapts but never rejects, saying so. Maestro's var-step constraints (zero
+crossings, bounded differences, sampling points, FMUs' maximum step sizes) and the
+tolerance from the file."""
 
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ import pytest
 from tests.conftest import ROOT, FmuFiles
 from tests.integration.test_cosim_master import monolithic, msd_system
 from twinlink.cosim import kinds
-from twinlink.cosim.model import Algorithm, Instance, Port, System
+from twinlink.cosim.model import Algorithm, Constraint, Instance, Port, System
 from twinlink.cosim.protocol import SlaveLike
 from twinlink.cosim.reading import read_system
 from twinlink.cosim.results import Result
@@ -37,6 +39,7 @@ def fmus(fmu_files: FmuFiles) -> dict[str, Path]:
         "msd1.fmu": fmu_files("msd_mass"),
         "msd2.fmu": fmu_files("msd_spring"),
         "ticks.fmu": fmu_files("ticks"),
+        "maxstep.fmu": fmu_files("maxstep"),
     }
 
 
@@ -48,7 +51,9 @@ def varstep(system: System, low: float, high: float) -> System:
     )
 
 
-def simulate(system: System, fmus: dict[str, Path], tolerance: float) -> tuple[Result, Session]:
+def simulate(
+    system: System, fmus: dict[str, Path], tolerance: float | None
+) -> tuple[Result, Session]:
     with Session(system, fmus, tolerance=tolerance) as session:
         rows = [session.initialize()]
         while (row := session.step()) is not None:
@@ -185,18 +190,20 @@ def test_an_fmi3_fmu_rolls_back_with_the_others(fmus: dict[str, Path], fmu_files
     assert session.ended.startswith("instance 'stair' (stair3.fmu) asked to terminate at t = 9 s")
 
 
-def test_maestros_var_step_file_runs_with_its_constraints_named(
+def test_maestros_var_step_file_runs_with_its_constraint_applied(
     fmus: dict[str, Path], tmp_path: Path, caplog: pytest.LogCaptureFixture
 ) -> None:
     """The INTO-CPS multi-model with the settings of Maestro's own var-step test (size
-    [1e-6, 1], initsize 1e-4, a boundeddifference constraint), read by read_system."""
+    [1e-6, 1], initsize 1e-4, a boundeddifference constraint), read by read_system: the
+    constraint (a change of at most 1, or 100 %) is applied without a word."""
     model = json.loads((MSD_FILES / "mm.json").read_text())
     settings = json.loads((MSD_FILES / "varstep.json").read_text())
     path = tmp_path / "varstep.json"
     path.write_text(json.dumps(model | settings))
     with caplog.at_level(logging.WARNING, logger="twinlink.cosim"):
         system = read_system(path)
-    assert "bd (boundeddifference) are not applied" in caplog.text
+    assert caplog.text == ""
+    assert [(c.name, c.kind) for c in system.algorithm.constraints] == [("bd", "boundeddifference")]
     paths = {"MassSpringDamper1.fmu": fmus["msd1.fmu"], "MassSpringDamper2.fmu": fmus["msd2.fmu"]}
     result, session = simulate(system, paths, 1e-4)
     times = result.column("time")
@@ -205,3 +212,120 @@ def test_maestros_var_step_file_runs_with_its_constraints_named(
     params = {"m1": 1.0, "c1": 1.0, "d1": 0.0, "m2": 1.0, "c2": 1.0, "d2": 1.0}
     reference = monolithic(times, **params, cc=1.0, dc=1.0)
     assert np.max(np.abs(result.column("{msd2}.msd2i.x2") - reference[1])) < 0.005
+
+
+X1 = Port("msd1.m1", "x1")
+
+
+def constrained(system: System, *constraints: Constraint, tolerance: float | None = None) -> System:
+    """`system` with a var-step algorithm from its step, between 1e-6 and 1 s."""
+    algorithm = Algorithm(
+        "var-step",
+        system.algorithm.size,
+        1e-6,
+        1.0,
+        master=system.algorithm.master,
+        tolerance=tolerance,
+        constraints=constraints,
+    )
+    return replace(system, algorithm=algorithm)
+
+
+def test_zero_crossings_are_hit_within_the_tolerance(fmus: dict[str, Path]) -> None:
+    """Every crossing of x1 through zero has a row within 1e-6 of it (of x1's value); without
+    the constraint the rows step over the crossings."""
+    base = msd_system("gauss-seidel", 0.05)
+
+    def crossings(result: Result) -> tuple[int, list[int]]:
+        x = result.column("{msd1}.m1.x1")
+        across = np.flatnonzero(x[:-1] * x[1:] < 0)
+        missed = [int(i) for i in across if min(abs(x[i]), abs(x[i + 1])) > 1e-6]
+        return int(np.count_nonzero(np.abs(x) <= 1e-6)), missed
+
+    plain, _ = simulate(constrained(base), fmus, 1e-3)
+    hits, missed = crossings(plain)
+    assert hits == 0 and len(missed) >= 3
+    zc = Constraint("zc", "zerocrossing", (X1,), abstol=1e-6)
+    for order in (1, 2):
+        result, session = simulate(constrained(base, replace(zc, order=order)), fmus, 1e-3)
+        hits, missed = crossings(result)
+        assert missed == [] and hits >= 3, (order, hits, missed)
+        assert session.varstep is not None and session.warnings == []
+        assert error(result) < 2 * error(plain)  # no less accurate for it
+
+
+def test_a_bounded_difference_limits_the_change_over_a_step(fmus: dict[str, Path]) -> None:
+    base = msd_system("gauss-seidel", 0.05)
+    plain, _ = simulate(constrained(base), fmus, 1e-3)
+    assert np.max(np.abs(np.diff(plain.column("{msd1}.m1.x1")))) > 0.02
+    bd = Constraint("bd", "boundeddifference", (X1,), abstol=0.005, reltol=0.0)
+    result, session = simulate(constrained(base, bd), fmus, 1e-3)
+    assert np.max(np.abs(np.diff(result.column("{msd1}.m1.x1")))) <= 0.005 * (1 + 1e-9)
+    assert session.varstep is not None and session.varstep.forced == 0
+    # relative: a change of at most 10 % of the value (or 1e-3 near zero)
+    bd = Constraint("bd", "boundeddifference", (X1,), abstol=1e-3, reltol=0.1)
+    x = simulate(constrained(base, bd), fmus, 1e-3)[0].column("{msd1}.m1.x1")
+    bound = np.maximum(1e-3, 0.1 * np.maximum(np.abs(x[1:]), np.abs(x[:-1])))
+    assert np.all(np.abs(np.diff(x)) <= bound * (1 + 1e-9))
+
+
+def test_every_sampling_point_is_a_row(fmus: dict[str, Path]) -> None:
+    """Samples every 0.5 s from 0.3 s: (3 + 5k) 10^-1 s."""
+    sr = Constraint("sr", "samplingrate", base=-1, rate=5, start_time=3)
+    result, _ = simulate(constrained(msd_system("jacobi", 0.05), sr), fmus, 1e-3)
+    times = result.column("time")
+    samples = 0.3 + 0.5 * np.arange(20)
+    at = np.searchsorted(times, samples - 1e-12)
+    assert np.allclose(times[at], samples, rtol=0, atol=1e-12)
+    plain, _ = simulate(constrained(msd_system("jacobi", 0.05)), fmus, 1e-3)
+    distance = np.abs(plain.column("time")[:, None] - samples[None, :]).min(axis=0)
+    assert np.count_nonzero(distance < 1e-12) < 5  # without it, the rows miss them
+    assert error(result) < 1.5 * error(plain)
+
+
+def test_fmus_maximum_step_sizes_are_asked(fmus: dict[str, Path]) -> None:
+    """The maxstep FMU says how far its next tick (every 0.7 s) is through fmi2GetMaxStepsize:
+    with the fmumaxstepsize constraint no step goes over one; the mass and spring provide no
+    such function, which the run says."""
+    pair = msd_system("jacobi", 0.05)
+    base = replace(
+        pair,
+        instances=(*pair.instances, Instance("clock", "maxstep.fmu")),
+        parameters={**pair.parameters, Port("clock", "period"): 0.7},
+        log_variables={**pair.log_variables, "clock": ("missed",)},
+    )
+    plain, _ = simulate(constrained(base), fmus, 1e-3)
+    assert plain.column("clock.missed")[-1] > 0
+    fm = Constraint("fm", "fmumaxstepsize")
+    result, session = simulate(constrained(base, fm), fmus, 1e-3)
+    assert result.column("clock.missed")[-1] == 0
+    times = result.column("time")
+    ticks = 0.7 * np.arange(1, 15)
+    assert np.allclose(times[np.searchsorted(times, ticks - 1e-9)], ticks, rtol=0, atol=1e-9)
+    assert session.warnings == [
+        "constraint fm (fmumaxstepsize): instance 'msd1.m1' (msd_mass.fmu), instance "
+        "'msd2.m2' (msd_spring.fmu) provide no fmi2GetMaxStepsize; only the others are asked"
+    ]
+
+
+def test_the_tolerance_comes_from_the_file_unless_given(fmus: dict[str, Path]) -> None:
+    base = msd_system("gauss-seidel", 0.01, **DAMPED)
+    _, coarse = simulate(constrained(base, tolerance=1e-3), fmus, None)
+    _, fine = simulate(constrained(base, tolerance=1e-5), fmus, None)
+    assert fine.steps > 2 * coarse.steps
+    _, given = simulate(constrained(base, tolerance=1e-5), fmus, 1e-3)  # the caller's wins
+    assert given.steps == coarse.steps
+    _, default = simulate(constrained(base), fmus, None)  # varstep.TOLERANCE, 1e-3
+    assert default.steps == coarse.steps
+
+
+def test_without_rollback_a_constraint_only_bounds_the_next_step(
+    fmus: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    without_rollback(monkeypatch, "msd2.m2")
+    bd = Constraint("bd", "boundeddifference", (X1,), abstol=0.005, reltol=0.0)
+    result, session = simulate(constrained(msd_system("gauss-seidel", 0.05), bd), fmus, 1e-3)
+    assert session.varstep is not None and session.varstep.rejected == 0
+    assert "cannot reject" in session.warnings[0]
+    steps = np.abs(np.diff(result.column("{msd1}.m1.x1")))
+    assert np.median(steps) <= 0.005  # sized from the last change: most within the bound

@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from twinlink.cosim.maestro import read_maestro
-from twinlink.cosim.model import Algorithm, Connection, CosimFormatError, Port, System
+from twinlink.cosim.model import Algorithm, Connection, Constraint, CosimFormatError, Port, System
 from twinlink.cosim.ssp import extract, read_ssp
 from twinlink.cosim.yamlform import read_yaml, to_yaml
 from twinlink.domain.errors import InvalidInputError
@@ -135,8 +135,11 @@ def test_maestro_settings_add_parameters_and_logged_variables() -> None:
 
 def test_maestro_var_step_settings_from_maestros_test_file() -> None:
     system = read_maestro(MSD / "mm.json", settings=MSD / "varstep.json")
+    bd = Constraint(
+        "bd", "boundeddifference", (Port(M1, "x1"), Port(M2, "fk")), abstol=1.0, reltol=1.0
+    )
     assert system.algorithm == Algorithm(
-        "var-step", 1e-4, min_size=1e-6, max_size=1.0, master="jacobi"
+        "var-step", 1e-4, min_size=1e-6, max_size=1.0, master="jacobi", constraints=(bd,)
     )
 
 

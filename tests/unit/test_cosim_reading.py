@@ -1,5 +1,5 @@
 """read_system: the reader chosen by extension or content, a multi-model with its coe.json
-found either way, and Maestro's var-step constraints named as not applied."""
+found either way, and Maestro's stabilisation named as not applied."""
 
 from __future__ import annotations
 
@@ -93,10 +93,11 @@ def test_a_json_that_is_neither_is_refused(tmp_path: Path) -> None:
         read_system(path)
 
 
-def test_var_step_constraints_are_named_as_not_applied(
+def test_var_step_constraints_are_read_and_stabilisation_named_as_not_applied(
     tmp_path: Path, caplog: pytest.LogCaptureFixture
 ) -> None:
-    """Maestro's own var-step test file's settings with the multi-model, in one file."""
+    """Maestro's own var-step test file's settings with the multi-model, in one file: its
+    constraint is read (and applied by the master, no warning); stabilisation is not done."""
     model = json.loads((MSD / "mm.json").read_text())
     settings = json.loads((MSD / "varstep.json").read_text())
     path = tmp_path / "varstep.json"
@@ -104,10 +105,26 @@ def test_var_step_constraints_are_named_as_not_applied(
     with caplog.at_level(logging.WARNING, logger="twinlink.cosim"):
         system = read_system(path)
     assert system.algorithm.kind == "var-step"
+    assert [c.kind for c in system.algorithm.constraints] == ["boundeddifference"]
+    assert unapplied(path) == [] and caplog.messages == []
+    path.write_text(
+        json.dumps(
+            model
+            | settings
+            | {
+                "stabalizationEnabled": True,
+                "global_absolute_tolerance": 0.0,
+                "global_relative_tolerance": 0.01,
+            }
+        )
+    )
+    with caplog.at_level(logging.WARNING, logger="twinlink.cosim"):
+        read_system(path)
     notes = unapplied(path)
     assert notes == [
-        "the var-step constraints bd (boundeddifference) are not applied: the var-step master "
-        "sets its step from its own error estimate of the connected outputs"
+        "stabalizationEnabled is not applied: the masters step each FMU once per step and do "
+        "not iterate until the coupled values settle (its global_absolute_tolerance 0.0, "
+        "global_relative_tolerance 0.01 are not used)"
     ]
     assert caplog.messages == [f"varstep.json: {notes[0]}"]
     assert unapplied(MSD / "maestro2.json") == [] and unapplied(MSD / "msd.yaml") == []

@@ -12,8 +12,11 @@ completing or overriding the multi-model's.
 An instance "m1" of the FMU "{msd1}" is named "msd1.m1". FMU paths stay as written, relative
 to the document's folder. Maestro's masters are Jacobi (every FMU steps from the outputs of
 the step before), so a multi-model's algorithm is a Jacobi one. Keys this reader does not
-use (`simulationProgramDelay`, `liveGraphs`, `overrideLogLevel`, `constraints`, ...) are
-ignored, never an error: files from newer tools still load.
+use (`simulationProgramDelay`, `liveGraphs`, `overrideLogLevel`, ...) are ignored, never an
+error: files from newer tools still load. A var-step algorithm's `constraints` are read
+(constraints.py applies them); `global_absolute_tolerance` and `global_relative_tolerance`
+are Maestro's tolerances for stabilisation (iterating a step until coupled values settle),
+which twinlink's masters do not do, so they are not the var-step tolerance.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from twinlink.cosim import constraints as varstep_constraints
 from twinlink.cosim.model import Algorithm, Connection, CosimFormatError, Instance, Port, System
 
 # "{key}.instance.variable": a variable name may hold dots ("der(x.y)", "body.frame.r[1]"),
@@ -238,5 +242,10 @@ def _algorithm(reader: _Reader, raw: Any) -> Algorithm:
         init = _positive(reader, raw.get("initsize", low), "algorithm.initsize")
         if not low <= init <= high:
             raise reader.fail("algorithm", f"initsize {init} is not within size [{low}, {high}]")
-        return Algorithm("var-step", init, min_size=low, max_size=high, master="jacobi")
+        constraints = varstep_constraints.parse(
+            raw.get("constraints"), "algorithm.constraints", reader.port, reader.fail
+        )
+        return Algorithm(
+            "var-step", init, min_size=low, max_size=high, master="jacobi", constraints=constraints
+        )
     raise reader.fail("algorithm.type", f'{kind!r} is neither "fixed-step" nor "var-step"')

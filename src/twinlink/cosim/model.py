@@ -48,17 +48,46 @@ class Connection:
     target: Port
 
 
+ConstraintKind = Literal["zerocrossing", "boundeddifference", "samplingrate", "fmumaxstepsize"]
+
+
+@dataclass(frozen=True, slots=True)
+class Constraint:
+    """One of Maestro's var-step constraints (constraints.py applies them), as its file
+    writes it: `name` is its key in `constraints`. zerocrossing: `ports` (one, or two whose
+    difference crosses zero), `order` of the prediction (1 or 2), `abstol`, `safety`;
+    boundeddifference: `ports`, `abstol`, `reltol`, `safety`, `skip_discrete`; samplingrate:
+    samples at (`start_time` + k `rate`) 10^`base` s; fmumaxstepsize: nothing. None: the
+    default constraints.py gives."""
+
+    name: str
+    kind: ConstraintKind
+    ports: tuple[Port, ...] = ()
+    order: int = 1
+    abstol: float | None = None
+    reltol: float | None = None
+    safety: float | None = None
+    skip_discrete: bool = True
+    base: int = 0
+    rate: int = 1
+    start_time: int = 0
+
+
 @dataclass(frozen=True, slots=True)
 class Algorithm:
     """How the master steps: a fixed step of `size`, or a variable one starting at `size`
     and kept between `min_size` and `max_size`; Jacobi (every instance steps from the same
-    inputs) or Gauss-Seidel (an instance sees the outputs of those stepped before it)."""
+    inputs) or Gauss-Seidel (an instance sees the outputs of those stepped before it).
+    Var-step only: `tolerance`, its relative tolerance (None: varstep.TOLERANCE), and
+    Maestro's `constraints` on its steps."""
 
     kind: Literal["fixed-step", "var-step"]
     size: float
     min_size: float | None = None
     max_size: float | None = None
     master: Literal["jacobi", "gauss-seidel"] = "gauss-seidel"
+    tolerance: float | None = None
+    constraints: tuple[Constraint, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

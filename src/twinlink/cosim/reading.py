@@ -13,10 +13,11 @@ or to one above it up to `root` (the app writes it relative to the project folde
 its name alone in one of those folders. Nothing outside `root` (by default the file's own
 folder) is read.
 
-Maestro's var-step `constraints` (zerocrossing, boundeddifference, samplingrate,
-fmumaxstepsize) are not applied: the var-step master sets its step by its own error
-estimate (varstep.py). Reading a file that has some logs a warning naming them, and
-`unapplied(path)` lists them for a caller to show.
+Maestro's var-step `constraints` are read into the algorithm and applied (constraints.py).
+What a Maestro file asks that is not done is its stabilisation (`stabalizationEnabled`, with
+`global_absolute_tolerance` and `global_relative_tolerance`: iterating each step until the
+coupled values settle): reading such a file logs a warning saying so, and
+`unapplied(path)` lists it for a caller to show.
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ def read_system(
     if kind == "yaml":
         return read_yaml(path)
     data = _json(path)
-    for note in _constraints(data):
+    for note in _unapplied(data):
         _log.warning("%s: %s", path.name, note)
     if "fmus" in data:
         sibling = path.parent / SETTINGS_NAME
@@ -83,15 +84,15 @@ def format_of(path: Path) -> str:
 
 
 def unapplied(path: Path | str) -> list[str]:
-    """What a Maestro file asks that the masters do not do (its var-step constraints), each
-    as a sentence; [] for other formats."""
+    """What a Maestro file asks that the masters do not do (stabilisation), each as a
+    sentence; [] for other formats."""
     path = Path(path)
     if format_of(path) != "maestro":
         return []
     data = _json(path)
     if "fmus" in data and "algorithm" not in data and (path.parent / SETTINGS_NAME).is_file():
         data = _json(path.parent / SETTINGS_NAME)
-    return _constraints(data)
+    return _unapplied(data)
 
 
 def _json(path: Path) -> dict[str, Any]:
@@ -135,18 +136,16 @@ def _multimodel_of(path: Path, settings: dict[str, Any], root: Path | None) -> P
     )
 
 
-def _constraints(data: dict[str, Any]) -> list[str]:
-    algorithm = data.get("algorithm")
-    if not isinstance(algorithm, dict) or algorithm.get("type") != "var-step":
+def _unapplied(data: dict[str, Any]) -> list[str]:
+    if data.get("stabalizationEnabled") is not True:  # Maestro's spelling
         return []
-    constraints = algorithm.get("constraints")
-    if not isinstance(constraints, dict) or not constraints:
-        return []
-    named = ", ".join(
-        f"{key} ({value.get('type', '?')})" if isinstance(value, dict) else key
-        for key, value in constraints.items()
+    tolerances = ", ".join(
+        f"{key} {data[key]}"
+        for key in ("global_absolute_tolerance", "global_relative_tolerance")
+        if key in data
     )
     return [
-        f"the var-step constraints {named} are not applied: the var-step master sets its "
-        "step from its own error estimate of the connected outputs"
+        "stabalizationEnabled is not applied: the masters step each FMU once per step and do "
+        "not iterate until the coupled values settle"
+        + (f" (its {tolerances} are not used)" if tolerances else "")
     ]

@@ -31,6 +31,7 @@ import numpy.typing as npt
 from twinlink.domain.errors import InvalidInputError
 from twinlink.processors.fmuinfo import Scalar
 
+from .constraints import prepare as prepare_constraints
 from .graph import algebraic_loops, describe_loop, feedthrough_of
 from .kinds import open_slave
 from .master import Link, Master, Record, stepping_order
@@ -56,10 +57,11 @@ class Session:
         fmu_paths: Mapping[str, Path],
         *,
         external_inputs: Sequence[Port] = (),
-        tolerance: float = TOLERANCE,
+        tolerance: float | None = None,
         workdir: Path | None = None,
     ) -> None:
-        """`tolerance`: the var-step master's relative tolerance (varstep.py). The FMUs are
+        """`tolerance`: the var-step master's relative tolerance (varstep.py; None: the
+        algorithm's, else varstep.TOLERANCE). The FMUs are
         extracted into a new folder in `workdir` (default: the system's temporary folder).
 
         Raises InvalidInputError for a system that cannot run (before any FMU is loaded,
@@ -83,6 +85,7 @@ class Session:
                 self._slaves.append(open_slave(instance, path, self._workdir / str(k)))
             feedthrough = _Feedthrough(system, fmu_paths)
             _refuse_loops(system, feedthrough)
+            constraints = prepare_constraints(system.algorithm, self._slaves)
             self._master, self.columns, self._external = _wire(
                 system, self._slaves, external_inputs
             )
@@ -94,9 +97,14 @@ class Session:
             self.varstep: VarStep | None = None
             if system.algorithm.kind == "var-step":
                 watch = _watched(system, feedthrough, self._slaves)
-                self.varstep = VarStep(self._master, system.algorithm, watch, tolerance)
-                if watch and not self.varstep.rollback:
+                if tolerance is None:
+                    tolerance = system.algorithm.tolerance or TOLERANCE
+                checks = constraints()
+                self.varstep = VarStep(self._master, system.algorithm, watch, tolerance, checks)
+                if (watch or checks.checks) and not self.varstep.rollback:
                     self._warn(_no_rollback(self._slaves))
+                for note in checks.warnings:
+                    self._warn(note)
         except BaseException:
             self.close()
             raise
@@ -127,7 +135,7 @@ class Session:
         self._initialized = True
         self._master.read()
         if self.varstep is not None:
-            self.varstep.start()
+            self.varstep.start(self.time)
         row = np.empty(self._ncols)
         self._master.fill(row, self.time)
         return row
@@ -230,6 +238,7 @@ def check(
     ports = [c.source for c in system.connections] + list(targets)
     ports += list(system.parameters) + list(external_inputs)
     ports += [Port(name, "") for name in system.log_variables]
+    ports += [p for c in system.algorithm.constraints for p in c.ports]
     for port in ports:
         if port.instance not in names:
             raise InvalidInputError(f"{port} names no instance of the system")

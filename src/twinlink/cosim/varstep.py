@@ -29,6 +29,12 @@ so).
 An FMI 3 early return or an fmi2Discard ends a step short for one instance while the others
 reached its end: with rollback, every instance is restored and the step retried up to the
 time that instance reached (halved if it got nowhere); without, the run fails naming it.
+
+Maestro's var-step constraints (constraints.py) act on top of the estimate: each bounds the
+next step before it is taken (a step so cut, like the last one cut to the end time, may be
+below min_size and does not shrink the next), and may have a step redone shorter (a
+rejection as above, counted in `rejected`; without rollback it is kept and counted in
+`forced`).
 """
 
 from __future__ import annotations
@@ -40,6 +46,7 @@ from collections.abc import Sequence
 import numpy as np
 import numpy.typing as npt
 
+from .constraints import Constraints
 from .master import Master
 from .model import Algorithm
 from .slaves import Buffer, CosimRunError
@@ -62,12 +69,14 @@ class VarStep:
         algorithm: Algorithm,
         watch: Sequence[tuple[Buffer, int]],
         tolerance: float = TOLERANCE,
+        constraints: Constraints | None = None,
     ) -> None:
         self.master = master
         self.h = algorithm.size
         self.min_size = algorithm.min_size or algorithm.size
         self.max_size = algorithm.max_size or algorithm.size
         self.tolerance = tolerance
+        self.constraints = constraints or Constraints([], [])
         self.rollback = all(s.can_rollback for s in master.slaves)
         self.rejected = 0  # steps rolled back and retried smaller for their error
         self.shortened = 0  # steps retried to where an instance returned early
@@ -78,10 +87,12 @@ class VarStep:
         self._h_before = 0.0
         self._scale = np.zeros(0)
 
-    def start(self) -> None:
-        """After initialization: the connected outputs at the start time."""
+    def start(self, t: float = 0.0) -> None:
+        """After initialization: the connected outputs (and the constraints' ports) at the
+        start time t."""
         self._last = self._outputs()
         self._scale = np.abs(self._last)
+        self.constraints.start(t)
 
     def step(self, t: float, end: float | None) -> float:
         """One accepted step from t (not past `end`); the time reached. FmuTerminated is kept
@@ -93,6 +104,10 @@ class VarStep:
             if end is not None and t + h * (1 + _SLIVER) >= end:
                 h = end - t
             target = end if end is not None and h == end - t else t + h
+            bound = self.constraints.bound(t, target)
+            cut = bound < target  # by a constraint: a sampling point, a crossing ahead...
+            if cut:
+                target, h = bound, bound - t
             states = [s.save_state() for s in master.slaves] if self.rollback else []
             try:
                 reached = master.step(t, h)
@@ -102,16 +117,20 @@ class VarStep:
                     h = self._cut_short(t, h, reached, states)
                     continue
                 err, y = self._error(h)
-                if err > 1.0 and self.rollback and h > self.min_size:
+                shorter = self.constraints.retry(t, h)  # a constraint's shorter step
+                if (err > 1.0 or shorter is not None) and self.rollback and h > self.min_size:
                     self._restore(states)
                     self.rejected += 1
-                    h = max(self.min_size, h * max(_SHRINK, min(_SAFETY, _SAFETY / err**0.5)))
+                    if err > 1.0:
+                        h = h * max(_SHRINK, min(_SAFETY, _SAFETY / err**0.5))
+                    h = max(self.min_size, min(h, shorter if shorter is not None else h))
                     continue
             finally:
                 self._free(states)
-            if err > 1.0:
+            if err > 1.0 or shorter is not None:
                 self.forced += 1
-            self._accept(y, h, err)
+            self._accept(y, h, err, cut)
+            self.constraints.accept(target, h)
             return target
         raise CosimRunError(
             f"the var-step master found no acceptable step from t = {t:g} s in {_RETRIES} "
@@ -157,7 +176,7 @@ class VarStep:
         scale = np.maximum(scale, 1e-300)
         return float(np.max(np.abs(y - predicted) / (self.tolerance * scale))), y
 
-    def _accept(self, y: npt.NDArray[np.float64], h: float, err: float) -> None:
+    def _accept(self, y: npt.NDArray[np.float64], h: float, err: float, cut: bool) -> None:
         # after a step kept over tolerance (a jump), extrapolating across it would predict
         # the jump again: the extrapolation starts afresh from its end
         self._before = self._last if err <= 1.0 else None
@@ -167,7 +186,9 @@ class VarStep:
         if err < 0.0:  # not estimated
             return
         grow = _GROW if err == 0.0 else min(_GROW, max(_SHRINK, _SAFETY / err**0.5))
-        if h >= self.h or grow < 1.0:  # a step cut to reach the end does not shrink h
+        if cut:  # cut short by a constraint: its error says nothing of a longer step's
+            self.h = min(self.max_size, max(self.min_size, self.h * min(grow, 1.0)))
+        elif h >= self.h or grow < 1.0:  # a step cut to reach the end does not shrink h
             self.h = min(self.max_size, max(self.min_size, h * grow))
 
     def _outputs(self) -> npt.NDArray[np.float64]:

@@ -16,6 +16,8 @@
       type: fixed-step              # or var-step, with min_size and max_size
       size: 0.001                   # the step (var-step: the first step)
       master: gauss-seidel          # or jacobi
+      # var-step only: tolerance (relative, 1e-3) and Maestro's constraints, e.g.
+      # constraints: {sr: {type: samplingrate, base: -1, rate: 1, startTime: 0}}
     start_time: 0
     end_time: 10
 
@@ -33,6 +35,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from twinlink.cosim import constraints as varstep_constraints
 from twinlink.cosim.model import Algorithm, Connection, CosimFormatError, Instance, Port, System
 from twinlink.domain.errors import DocumentError
 from twinlink.domain.yamlsource import Path as YamlPath
@@ -41,7 +44,9 @@ from twinlink.domain.yamlsource import SourceDocument, dump_yaml, parse_yaml_str
 KEYS = frozenset(
     {"instances", "connections", "parameters", "log", "algorithm", "start_time", "end_time"}
 )
-ALGORITHM_KEYS = frozenset({"type", "size", "min_size", "max_size", "master"})
+ALGORITHM_KEYS = frozenset(
+    {"type", "size", "min_size", "max_size", "master", "tolerance", "constraints"}
+)
 
 Scalar = float | int | bool | str
 
@@ -85,6 +90,12 @@ def to_yaml(system: System) -> str:
     if system.algorithm.max_size is not None:
         algorithm["max_size"] = system.algorithm.max_size
     algorithm["master"] = system.algorithm.master
+    if system.algorithm.tolerance is not None:
+        algorithm["tolerance"] = system.algorithm.tolerance
+    if system.algorithm.constraints:
+        algorithm["constraints"] = {
+            c.name: varstep_constraints.to_mapping(c) for c in system.algorithm.constraints
+        }
     data: dict[str, Any] = {
         "instances": {
             i.name: {"fmu": i.fmu, "isolated": True} if i.isolated else i.fmu
@@ -232,11 +243,36 @@ class _Reader:
             )
         size = self._step(("algorithm", "size"), data.get("size"))
         if kind == "fixed-step":
+            for key in ("tolerance", "constraints"):
+                if key in data:
+                    raise self.fail(("algorithm", key), "applies to a var-step algorithm only")
             return Algorithm("fixed-step", size, master=master)
         if kind == "var-step":
             low = self._step(("algorithm", "min_size"), data.get("min_size", size))
             high = self._step(("algorithm", "max_size"), data.get("max_size", size))
             if not low <= size <= high:
                 raise self.fail(("algorithm",), f"size {size} is not within [{low}, {high}]")
-            return Algorithm("var-step", size, min_size=low, max_size=high, master=master)
+            tolerance = None
+            if data.get("tolerance") is not None:
+                tolerance = self._step(("algorithm", "tolerance"), data["tolerance"])
+            constraints = varstep_constraints.parse(
+                data.get("constraints"),
+                "algorithm.constraints",
+                lambda text, where: self.port(_path(where), text),
+                lambda where, problem: self.fail(_path(where), problem),
+            )
+            return Algorithm(
+                "var-step",
+                size,
+                min_size=low,
+                max_size=high,
+                master=master,
+                tolerance=tolerance,
+                constraints=constraints,
+            )
         raise self.fail(("algorithm", "type"), f'{kind!r} is not "fixed-step" or "var-step"')
+
+
+def _path(where: str) -> YamlPath:
+    """ "algorithm.constraints.zc.ports" as the path to that node (for its line)."""
+    return tuple(where.split("."))
