@@ -19,6 +19,7 @@ from twinlink.api import (
     commands,
     device_ws,
     devices,
+    exports,
     live,
     pages,
     problems,
@@ -387,7 +388,9 @@ def create_app(
     routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api,
                     cosims_api, federation_api)  # fmt: skip
     app.include_router(library_api.router)  # /api/v1/library
-    for module in (*routers, *routers_more, workspaces_api, search, remote, pages, app_ui):
+    # exports: /twins/{slug}/export.aasx, and the ?format= exports it registers in pages
+    pages_etc = (search, remote, pages, exports, app_ui)
+    for module in (*routers, *routers_more, workspaces_api, *pages_etc):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)

@@ -10,18 +10,19 @@ from __future__ import annotations
 import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import orjson
-from fastapi import APIRouter, Request
+from fastapi import APIRouter, Query, Request
 from starlette.responses import HTMLResponse, RedirectResponse, Response
 
 from twinlink.api.deps import MaybeCaller, Registry
 from twinlink.api.federation import remote_relations
 from twinlink.api.models.problem import problems
 from twinlink.api.twinbase import site_index, visible_twins
-from twinlink.domain.errors import NotFoundError
+from twinlink.domain.errors import InvalidInputError, NotFoundError
 from twinlink.domain.yamlsource import dump_yaml
+from twinlink.formats import FORMATS as EXPORTS
 from twinlink.web.render import index_page, twin_page
 
 YAML = "application/yaml"
@@ -39,6 +40,16 @@ _MOVED: dict[int | str, dict[str, Any]] = {
 router = APIRouter(
     tags=["documents"], default_response_class=Response, responses=problems(401, 404, 503)
 )
+# `?format=` wins over Accept: yaml, json, html, or an export api/exports.py registers.
+FormatQuery = Annotated[
+    str | None,
+    Query(
+        alias="format",
+        description="The format, whatever Accept asks: yaml, json, html, or the document "
+        "converted: wot-td (a W3C WoT Thing Description 1.1), dtdl (a DTDL v3 Interface), "
+        "aas-json (an Asset Administration Shell environment).",
+    ),
+]
 _YAML_TYPES = ("application/yaml", "application/x-yaml", "text/yaml", "text/x-yaml")
 
 
@@ -163,19 +174,24 @@ async def _serve(
     return answer(request, form.render(doc, twin.slug, request), form.media_type, headers)
 
 
+_ANY_FORMAT = {YAML: _DOCUMENT, "application/json": _DOCUMENT, "text/html": _TEXT}
+_ANY_FORMAT.update({media_type: _DOCUMENT for media_type, _ in EXPORTS.values()})
+
+
 @router.get(
     "/twins/{slug}",
-    summary="The twin's DT document (YAML, JSON or HTML by Accept)",
-    responses={
-        200: {"content": {YAML: _DOCUMENT, "application/json": _DOCUMENT, "text/html": _TEXT}},
-        **_MOVED,
-    },
+    summary="The twin's DT document (YAML, JSON or HTML by Accept), or ?format= an export",
+    responses={200: {"content": _ANY_FORMAT}, **_MOVED},
 )
 @router.head("/twins/{slug}", include_in_schema=False)
 async def twin_document(
-    slug: str, request: Request, caller: MaybeCaller, reg: Registry
+    slug: str, request: Request, caller: MaybeCaller, reg: Registry, fmt: FormatQuery = None
 ) -> Response:
-    fmt = _negotiate(request.headers.get("accept", ""))
+    if fmt is None:
+        fmt = _negotiate(request.headers.get("accept", ""))
+    elif fmt not in FORMATS:
+        names = ", ".join(repr(name) for name in FORMATS)
+        raise InvalidInputError(f"there is no format {fmt!r} here; use one of {names}")
     return await _serve(slug, fmt, caller, reg, request)
 
 
