@@ -68,24 +68,24 @@ def _parse_one(name: str, raw: Any, where: str, port: PortOf, fail: Fail) -> Con
     if kind not in KINDS:
         raise fail(f"{where}.type", f"{kind!r} is not one of {', '.join(KINDS)}")
 
-    def number(key: str, *, positive: bool = False) -> float | None:
+    def number(key: str, *, positive: bool = False, signed: bool = False) -> float | None:
         value = raw.get(key)
-        if value is None:
-            return None
         if isinstance(value, str):  # the INTO-CPS app writes some numbers as strings
             try:
                 value = float(value)
             except ValueError:
                 raise fail(f"{where}.{key}", f"{value!r} is not a number") from None
+        if value is None:
+            return None
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise fail(f"{where}.{key}", f"{value!r} is not a number")
-        if not math.isfinite(value) or value < 0 or (positive and value == 0):
+        if not math.isfinite(value) or (value < 0 and not signed) or (positive and value == 0):
             above = "above 0" if positive else "0 or more"
             raise fail(f"{where}.{key}", f"{value!r} is not a finite number {above}")
         return float(value)
 
     def integer(key: str, default: int) -> int:
-        value = number(key) if key != "base" else _signed(raw.get(key), f"{where}.{key}", fail)
+        value = number(key, signed=key == "base")
         if value is None:
             return default
         if value != int(value):
@@ -125,19 +125,6 @@ def _parse_one(name: str, raw: Any, where: str, port: PortOf, fail: Fail) -> Con
         rate=rate,
         start_time=integer("startTime", 0),
     )
-
-
-def _signed(value: Any, where: str, fail: Fail) -> float | None:
-    if value is None:
-        return None
-    if isinstance(value, str):
-        try:
-            value = float(value)
-        except ValueError:
-            raise fail(where, f"{value!r} is not a whole number") from None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise fail(where, f"{value!r} is not a whole number")
-    return float(value)
 
 
 def to_mapping(constraint: Constraint) -> dict[str, Any]:
