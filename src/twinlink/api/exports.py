@@ -52,6 +52,7 @@ def export_context(settings: Settings, mqtt_port: int | None, slug: str) -> Expo
         mqtt_url=_mqtt_url(settings, mqtt_port),
         ws_url=f"{'wss' if scheme == 'https' else 'ws'}://{rest}/api/v1/live",
         mqtt_topic_prefix=settings.mqtt_topic_prefix,
+        mqtt_external=settings.mqtt_mode == "external",  # a TD's MQTT forms need a real broker
     )
 
 
