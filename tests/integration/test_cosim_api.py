@@ -370,6 +370,10 @@ def test_the_tools_files_run_unchanged_ssp_yaml_and_a_multi_model_with_its_coe_j
         assert [run["sim_time"] for run in runs] == pytest.approx([10.0] * 3)
         assert "{msd2}.msd2i.x2" in runs[2]["columns"]  # Maestro's own column names
         assert "msd2.msd2i.x2" in runs[1]["columns"]
+        # an SSP archive names nothing to record: every output is, as `twinlink cosim run` does
+        assert {"msd1.msd1i.x1", "msd1.msd1i.v1", "msd2.msd2i.fk"} <= {
+            c.replace("{", "").replace("}", "") for c in runs[0]["columns"]
+        }, runs[0]["columns"]
 
 
 def test_library_models_resolve_pinned(server: Server, fmu_files: FmuFiles) -> None:
