@@ -279,7 +279,7 @@ def test_round_trip_keeps_names_that_are_not_id_shorts_zero_bounds_and_defaults(
     assert got["commands"][0]["parameters"][1]["default"] == {"a": [1, "b"]}
 
 
-def test_import_reads_manufacturer_and_owner_back() -> None:
+def test_import_reads_manufacturer_owner_and_contact_back_from_a_package() -> None:
     doc = {
         "version": "1.0",
         "id": "https://dt.example/pump-7",
@@ -287,6 +287,7 @@ def test_import_reads_manufacturer_and_owner_back() -> None:
         "description": "A pump.",
         "manufacturer": {"name": "Pumps Oy", "website": "https://pumps.example"},
         "owner": "Example Lab",
+        "contact": {"name": "Bench team", "email": "bench@lab.example"},
     }
     fragment = import_aasx(export_aasx(doc, CTX))
     assert fragment == {
@@ -295,6 +296,7 @@ def test_import_reads_manufacturer_and_owner_back() -> None:
         "description": "A pump.",
         "manufacturer": {"name": "Pumps Oy", "website": "https://pumps.example"},
         "owner": "Example Lab",
+        "contact": {"name": "Bench team", "email": "bench@lab.example"},
         "interface": {"signals": [], "properties": [], "commands": []},
     }
 

@@ -90,11 +90,13 @@ def _nameplate(document: dict[str, Any], ctx: ExportContext) -> model.Submodel:
     return _submodel(ctx, "Nameplate", m.NAMEPLATE, elements)
 
 
-def _address(party: dict[str, Any]) -> list[model.SubmodelElement]:
-    """Company, e-mail and web site, as the Contact Information template names them."""
+def _address(party: dict[str, Any], person: bool = False) -> list[model.SubmodelElement]:
+    """Name, e-mail and web site, as the Contact Information template names them: the name
+    is the `Company`, or for a contact person the `NameOfContact`."""
     out: list[model.SubmodelElement] = []
     if party.get("name"):
-        out.append(m.mlp("Company", str(party["name"]), m.COMPANY))
+        short, semantic = ("NameOfContact", m.NAME_OF_CONTACT) if person else ("Company", m.COMPANY)
+        out.append(m.mlp(short, str(party["name"]), semantic))
     if party.get("email"):
         email = m.prop("EmailAddress", str(party["email"]), m.EMAIL_ADDRESS)
         out.append(m.collection("Email", [email], m.EMAIL))
@@ -110,16 +112,14 @@ def _contacts(document: dict[str, Any], ctx: ExportContext) -> model.Submodel:
     Information template has one for any role (a role without an ECLASS code as text)."""
     elements: list[model.SubmodelElement] = []
     for short, key, role in (
-        ("Owner", "owner", "owner"),
+        ("Owner", m.OWNER, m.OWNER),
         ("Contact", "contact", m.ROLE_OTHER_CONTACT),
     ):
         party = _party(document.get(key))
-        if not party:
-            continue
-        values = [m.prop("RoleOfContactPerson", role, m.ROLE_OF_CONTACT_PERSON), *_address(party)]
-        if key == "contact" and party.get("name"):  # a contact is a person, an owner a company
-            values[1] = m.mlp("NameOfContact", str(party["name"]), m.NAME_OF_CONTACT)
-        elements.append(m.collection(short, values, m.CONTACT_INFORMATION))
+        if party:
+            role_element = m.prop("RoleOfContactPerson", role, m.ROLE_OF_CONTACT_PERSON)
+            address = _address(party, person=key == "contact")
+            elements.append(m.collection(short, [role_element, *address], m.CONTACT_INFORMATION))
     return _submodel(ctx, "ContactInformations", m.CONTACT_INFORMATIONS, elements)
 
 

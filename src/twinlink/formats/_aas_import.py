@@ -42,9 +42,18 @@ def fragment(store: Store) -> dict[str, Any]:
         )
         if maker:
             out["manufacturer"] = maker
-    owner = _owner(_by_semantics(submodels, m.CONTACT_INFORMATIONS, "contactinformation"))
+    contacts = _by_semantics(submodels, m.CONTACT_INFORMATIONS, "contactinformation")
+    owner = _party(_role(contacts, m.OWNER), None)
     if owner:
         out["owner"] = owner
+    contact = _role(contacts, m.ROLE_OTHER_CONTACT)
+    if contact is not None:  # a contact is always a mapping (the document's rule)
+        person = {
+            "name": _text_of(contact, "NameOfContact"),
+            "email": _text_of(_get(contact, "Email"), "EmailAddress"),
+            "website": _text_of(contact, "AddressOfAdditionalLink"),
+        }
+        out["contact"] = {k: v for k, v in person.items() if v}
     operational = _by_semantics(submodels, m.OPERATIONAL_DATA, "operational")
     if operational is not None:
         out["interface"] = _interface(operational)
@@ -116,6 +125,8 @@ def _text_of(namespace: Any, short: str) -> str | None:
 
 def _party(address: Any, name: str | None) -> str | dict[str, Any] | None:
     """A manufacturer or owner: text when only a name is known, else a mapping."""
+    if address is None and name is None:
+        return None
     email = _text_of(_get(address, "Email"), "EmailAddress")
     website = _text_of(address, "AddressOfAdditionalLink")
     name = name or _text_of(address, "Company")
@@ -125,10 +136,11 @@ def _party(address: Any, name: str | None) -> str | dict[str, Any] | None:
     return {k: v for k, v in party.items() if v}
 
 
-def _owner(contacts: model.Submodel | None) -> str | dict[str, Any] | None:
+def _role(contacts: model.Submodel | None, role: str) -> Any:
+    """The contact information with that role (RoleOfContactPerson), if any."""
     for element in _elements(contacts):
-        if _text_of(element, "RoleOfContactPerson") == "owner":
-            return _party(element, None)
+        if _text_of(element, "RoleOfContactPerson") == role:
+            return element
     return None
 
 

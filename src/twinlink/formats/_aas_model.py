@@ -31,6 +31,7 @@ CONTACT_INFORMATION = (
 )
 ROLE_OF_CONTACT_PERSON = "0173-1#02-AAO204#003"
 ROLE_OTHER_CONTACT = "0173-1#07-AAS929#001"  # the template's "other contact"
+OWNER = "owner"  # the owner's role: ECLASS has no code for it, the template takes text
 COMPANY = "0173-1#02-AAW001#001"
 NAME_OF_CONTACT = "0173-1#02-AAO205#002"
 EMAIL = "0173-1#02-AAQ836#005"
