@@ -115,6 +115,7 @@ def _fill(path: str, world: World, slug: str) -> str:
         "name": "some-name",
         "run_id": "1",
         "cosim_id": "1",
+        "remote_id": "1",
         "scope": "common",
         "kind": "models",
         "ref": "latest",

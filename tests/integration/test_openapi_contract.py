@@ -21,7 +21,7 @@ import httpx
 import orjson
 import pytest
 
-from tests.conftest import ROOT, FmuFiles, Server
+from tests.conftest import ROOT, FmuFiles, Server, start_server, stop_server
 from tests.integration._contract import Contract
 from tests.integration._runs import tar_of
 from tests.integration._util import YAML_HEADERS, make_user, poll_until, twin_doc, unique
@@ -34,6 +34,18 @@ INTERFACE = {
     "commands": [{"name": "go", "parameters": [{"name": "v", "type": "number"}]}],
     "properties": [{"name": "speed", "type": "number", "writable": True}],
 }
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    """Loopback fetches allowed: the remote twins' import reads this server's own index."""
+    srv = start_server(
+        tmp_path_factory.mktemp("data"), {"TWINLINK_FEDERATION_ALLOW_PRIVATE": "true"}
+    )
+    try:
+        yield srv
+    finally:
+        stop_server(srv)
 
 
 @pytest.fixture(scope="module")
@@ -129,6 +141,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _deployments(walk)
     _runs(walk)
     _cosims(walk, fmu_files)
+    _remote_twins(walk)
     _workspaces(walk)
     _removals(walk)
     answered = {(m, p) for m, p, status in walk.contract.seen if 200 <= status < 300}
@@ -367,6 +380,19 @@ def _cosims(w: Walk, fmu_files: FmuFiles) -> None:
     w.ok(w.admin.post(f"{url}/stop"))
     w.ok(w.admin.get(f"{url}/results.csv"))
     w.ok(w.admin.get(f"{url}/results", params={"max_points": 10}))
+    w.ok(w.admin.delete(url), 204)
+
+
+def _remote_twins(w: Walk) -> None:
+    dt_id = f"urn:{w.slug}:remote"
+    w.ok(w.admin.post("/api/v1/apply", content=twin_doc(dt_id, name="remote", slug=f"{w.slug}-r"),
+                      headers=YAML_HEADERS))  # fmt: skip
+    made = w.ok(w.admin.post("/api/v1/remote-twins/import", json={"url": w.server.url}))
+    [twin] = [t for t in made["imported"] if t["dt_id"] == dt_id]
+    url = f"/api/v1/remote-twins/{twin['id']}"
+    w.ok(w.admin.get("/api/v1/remote-twins", params={"q": "remote"}))
+    w.ok(w.admin.get(url))
+    w.ok(w.admin.post(f"{url}/refresh"))
     w.ok(w.admin.delete(url), 204)
 
 
