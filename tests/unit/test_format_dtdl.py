@@ -193,6 +193,14 @@ def test_round_trip_gives_the_same_interface_and_relations() -> None:
     ]
 
 
+def test_a_long_name_is_cut_in_display_name_and_imports_whole() -> None:
+    name = "A crane with a name longer than sixty-four characters, as some have"
+    out = export_dtdl({"id": "http://x.org/c", "name": name}, CTX)
+    assert out["displayName"] == name[:64]
+    assert validate_dtdl(out) == []
+    assert import_dtdl(out)["name"] == name
+
+
 def test_round_trip_of_the_tingen_example() -> None:
     for doc in parse_yaml_stream((EXAMPLES / "tingen" / "tingen.yaml").read_text()):
         if isinstance(doc.data.get("interface"), dict):

@@ -51,7 +51,7 @@ def import_dtdl(data: dict[str, Any] | list[Any]) -> dict[str, Any]:
     fragment: dict[str, Any] = {}
     if isinstance(note.get("id"), str):
         fragment["id"] = note["id"]
-    name = _text(data.get("displayName")) or _last_segment(data.get("@id"))
+    name = note.get("name") or _text(data.get("displayName")) or _last_segment(data.get("@id"))
     if name:
         fragment["name"] = name
     description = _text(data.get("description"))

@@ -81,8 +81,8 @@ def export_dtdl(document: dict[str, Any], ctx: ExportContext) -> dict[str, Any]:
     """The document's interface and relations as one DTDL v3 Interface."""
     global_id = str(document.get("id") or document.get("dt-id") or ctx.twin_url)
     names = _Names()
-    interface = document.get("interface") if isinstance(document.get("interface"), dict) else {}
-    assert isinstance(interface, dict)
+    given = document.get("interface")
+    interface: dict[str, Any] = given if isinstance(given, dict) else {}
     contents: list[dict[str, Any]] = []
     for signal in interface.get("signals") or []:
         contents.append(_value_element("Telemetry", signal, names))
@@ -107,6 +107,8 @@ def export_dtdl(document: dict[str, Any], ctx: ExportContext) -> dict[str, Any]:
     if isinstance(description, str) and description:
         out["description"] = description[:DESCRIPTION_MAX]
     note: dict[str, Any] = {"id": global_id, "url": ctx.twin_url}
+    if isinstance(name, str) and len(name) > DISPLAY_NAME_MAX:
+        note["name"] = name  # displayName is cut; import gives the whole name back
     for policy in ("unknown_signals", "out_of_range", "default_device"):
         if policy in interface:
             note[policy] = interface[policy]
