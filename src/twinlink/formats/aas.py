@@ -61,12 +61,10 @@ def export_aasx(document: dict[str, Any], ctx: ExportContext) -> bytes:
 
 
 def import_aas(data: dict[str, Any]) -> dict[str, Any]:
-    """A DT document fragment (id, name, description, manufacturer, owner, interface) from
-    an AAS environment in JSON. Refused with every problem when the SDK cannot read it."""
-    problems = validate_aas(data)
-    if problems:
-        raise InvalidInputError(_refusal(problems))
-    return _checked(_aas_import.fragment(read_json(data)))
+    """A DT document fragment (id, name, description, manufacturer, owner, contact,
+    interface) from an AAS environment in JSON, read as far as it can be: an object the SDK
+    cannot make is left out (validate_aas names each; run it first to refuse such a file)."""
+    return _checked(_aas_import.fragment(read_json(data, strict=False)))
 
 
 def import_aasx(package: bytes) -> dict[str, Any]:
@@ -80,9 +78,9 @@ def _checked(fragment: dict[str, Any]) -> dict[str, Any]:
     try:
         validate_part(SourceDocument({"version": "1.0", **fragment}))
     except DocumentError as err:
-        raise DocumentError(
-            "The AAS environment describes a twin twinlink cannot use; nothing was imported.",
-            err.problems,
+        listed = "; ".join(str(p) for p in err.problems)
+        raise InvalidInputError(
+            f"The AAS environment describes a twin twinlink cannot use: {listed}"
         ) from err
     return fragment
 
@@ -120,12 +118,12 @@ def validate_aas(data: Any) -> list[str]:
     return problems
 
 
-def read_json(data: dict[str, Any]) -> Store:
-    """The SDK's objects from an environment in JSON, read strictly: the first problem
-    raises InvalidInputError."""
+def read_json(data: dict[str, Any], strict: bool = True) -> Store:
+    """The SDK's objects from an environment in JSON. Strict, the first problem raises
+    InvalidInputError; else objects the SDK cannot make are skipped (and logged by it)."""
     try:
         return json_deserialization.read_aas_json_file(
-            io.StringIO(json.dumps(data)), failsafe=False
+            io.StringIO(json.dumps(data)), failsafe=not strict
         )
     except (ValueError, TypeError, KeyError, model.AASConstraintViolation) as err:
         raise InvalidInputError(_refusal([_first_line(str(err))])) from err
