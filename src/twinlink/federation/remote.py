@@ -121,6 +121,8 @@ class RemoteTwins:
         """Fetch the twin whose hosting-iri is `url` (again: with the validators of the copy
         kept) and keep it. A failure marks a kept copy stale or gone and is raised."""
         known = await self.store.get_remote_twin_by_url(url)
+        if known is not None and source == FROM_RELATION:
+            source = known.source  # a relation followed to an imported twin: still the site's
         try:
             got = await self.fetcher.fetch_document(
                 document_url(url) if source != FROM_RELATION else url,
@@ -139,8 +141,7 @@ class RemoteTwins:
     ) -> RemoteTwin:
         if got.not_modified and known is not None:
             known.state, known.error, known.checked_ns = "reachable", "", self._clock()
-            if source != FROM_RELATION:  # an import takes over a twin a relation found
-                known.source = source
+            known.source = source  # an import takes over a twin a relation found
             return await self.store.put_remote_twin(known)
         if got.document is None:  # a 304 to a request without validators: ask in full
             raise FetchFailed(f"{url!r} answered 304 Not Modified to a plain GET")
