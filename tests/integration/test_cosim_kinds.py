@@ -2,10 +2,12 @@
 solvers (msd_mass_me, FMI 2; the lag of _fmu_c.py, FMI 2 and 3, with a state event)
 coupled with co-simulation FMUs, against the monolithic ODE; FMU state for a rollback;
 isolated instances (a C FMU as in process, two Python FMUs each in a process of its own, a
-segfault and a kill failing the run by name); and the YAML form's `isolated`."""
+segfault and a kill failing the run by name); the YAML form's `isolated`; and a Python FMU
+whose `python_requirements` give it a virtualenv of its own (pip from the package index)."""
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import os
 import re
@@ -381,3 +383,89 @@ def test_the_yaml_form_reads_and_writes_an_isolated_instance() -> None:
 def test_the_yaml_form_refuses_a_wrong_instance_entry(entry: str, message: str) -> None:
     with pytest.raises(InvalidInputError, match=message):
         read_yaml("c.yaml", text=YAML.replace("{fmu: b.fmu, isolated: true}", entry))
+
+
+TRIPLER = Path(__file__).parents[1] / "fmus" / "python_tripler" / "Tripler.py"
+REQUIREMENT = "more-itertools==10.7.0"  # what Tripler imports; the server has it not
+
+
+@pytest.fixture(scope="module")
+def tripler(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Tripler.fmu (pythonfmu: y = 2 x + 3, importing more_itertools), built with a stand-in
+    more_itertools on its path: the FMU carries only the model's source."""
+    assert importlib.util.find_spec("more_itertools") is None, "the server has more_itertools"
+    folder = tmp_path_factory.mktemp("tripler")
+    (folder / "stub").mkdir()
+    (folder / "stub" / "more_itertools.py").write_text("def ilen(items): return len(items)\n")
+    subprocess.run(
+        [sys.executable, "-m", "pythonfmu", "build", "-f", str(TRIPLER), "-d", str(folder)],
+        check=True, env={**os.environ, "PYTHONPATH": str(folder / "stub")}, capture_output=True,
+    )  # fmt: skip
+    return folder / "Tripler.fmu"
+
+
+TRIPLER_YAML = f"""\
+instances:
+  t: {{fmu: Tripler.fmu, python_requirements: ["{REQUIREMENT}"]}}
+log:
+  t: [y]
+algorithm: {{type: fixed-step, size: 0.5}}
+end_time: 2
+"""
+
+
+def test_a_python_fmu_gets_the_packages_it_needs_in_an_environment_of_its_own(
+    tripler: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The YAML form's python_requirements: the instance runs in a process whose Python is a
+    virtualenv with more_itertools, installed by pip from the package index; without them the
+    FMU's import fails the run, naming the instance and the missing module."""
+    monkeypatch.setenv("TWINLINK_FMU_ENVS_DIR", str(tmp_path / "envs"))
+    system = read_yaml("t.yaml", text=TRIPLER_YAML)
+    assert system.instances == (Instance("t", "Tripler.fmu", True, (REQUIREMENT,)),)
+    x = Port("t", "x")
+    with Session(system, {"Tripler.fmu": tripler}, external_inputs=[x]) as session:
+        rows = [session.initialize()]
+        for value in (1.0, 2.0, 4.0, 0.5):
+            session.set_inputs({x: value})
+            row = session.step()
+            assert row is not None
+            rows.append(row)
+    assert [row[1] for row in rows[1:]] == [5.0, 7.0, 11.0, 4.0]  # 2 x + len("abc")
+    (env,) = [p for p in (tmp_path / "envs").iterdir() if p.is_dir()]
+    assert (env / "ready").is_file()  # built once, kept for the next run
+    plain = replace(system, instances=(Instance("t", "Tripler.fmu"),))
+    with pytest.raises(CosimRunError, match="instance 't'") as err:
+        Session(plain, {"Tripler.fmu": tripler}, external_inputs=[x])
+    assert "more_itertools" in str(err.value)
+
+
+def test_a_requirement_pip_cannot_install_fails_naming_the_instance(
+    tripler: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("TWINLINK_FMU_ENVS_DIR", str(tmp_path / "envs"))
+    monkeypatch.setenv("PIP_NO_INDEX", "1")  # nothing to install from: fails at once
+    text = TRIPLER_YAML.replace(REQUIREMENT, "twinlink-no-such-package==1.0")
+    with pytest.raises(CosimRunError) as err:
+        Session(read_yaml("t.yaml", text=text), {"Tripler.fmu": tripler})
+    message = str(err.value)
+    assert message.startswith(
+        "instance 't': its Python environment (twinlink-no-such-package==1.0) could not be "
+        "built: pip install failed"
+    )
+    assert "No matching distribution found for twinlink-no-such-package==1.0" in message
+
+
+@pytest.mark.parametrize(
+    ("entry", "message"),
+    [
+        ('{fmu: t.fmu, python_requirements: "a==1"}', "is not a list of requirements"),
+        ("{fmu: t.fmu, python_requirements: [-r /etc/passwd]}", "pip options and files"),
+    ],
+)
+def test_the_yaml_form_refuses_wrong_python_requirements(entry: str, message: str) -> None:
+    text = TRIPLER_YAML.replace(
+        f'{{fmu: Tripler.fmu, python_requirements: ["{REQUIREMENT}"]}}', entry
+    )
+    with pytest.raises(InvalidInputError, match=message):
+        read_yaml("t.yaml", text=text)

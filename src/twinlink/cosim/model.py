@@ -33,11 +33,14 @@ class Instance:
     """An instance of an FMU. `name` is unique in the system ("msd1.m1" in Maestro, the
     component's name in SSP); `fmu` a file path relative to the document's folder (or inside
     the SSP archive) or a `lib:` reference to the library. `isolated` asks for a process of
-    its own (Python FMUs always get one: two in one process break each other)."""
+    its own (Python FMUs always get one: two in one process break each other);
+    `python_requirements` runs that process in a Python environment with those packages
+    (processors/fmuenv.py), for a Python FMU importing packages the server lacks."""
 
     name: str
     fmu: str
     isolated: bool = False
+    python_requirements: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

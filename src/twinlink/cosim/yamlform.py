@@ -4,6 +4,7 @@
       msd1.m1: MassSpringDamper1.fmu
       msd2.m2: lib:msd/MassSpringDamper2
       ctrl: {fmu: Controller.fmu, isolated: true}   # in a process of its own
+      est: {fmu: Estimator.fmu, python_requirements: [filterpy==1.4.5]}  # ... with packages
     connections:                    # an output -> the inputs it feeds (a list, or one)
       msd1.m1.x1: [msd2.m2.x1]
       msd1.m1.v1: [msd2.m2.v1]
@@ -40,10 +41,12 @@ from twinlink.cosim.model import Algorithm, Connection, CosimFormatError, Instan
 from twinlink.domain.errors import DocumentError
 from twinlink.domain.yamlsource import Path as YamlPath
 from twinlink.domain.yamlsource import SourceDocument, dump_yaml, parse_yaml_stream
+from twinlink.processors.fmuenv import requirement_problem
 
 KEYS = frozenset(
     {"instances", "connections", "parameters", "log", "algorithm", "start_time", "end_time"}
 )
+INSTANCE_KEYS = frozenset({"fmu", "isolated", "python_requirements"})
 ALGORITHM_KEYS = frozenset(
     {"type", "size", "min_size", "max_size", "master", "tolerance", "constraints"}
 )
@@ -97,10 +100,7 @@ def to_yaml(system: System) -> str:
             c.name: varstep_constraints.to_mapping(c) for c in system.algorithm.constraints
         }
     data: dict[str, Any] = {
-        "instances": {
-            i.name: {"fmu": i.fmu, "isolated": True} if i.isolated else i.fmu
-            for i in system.instances
-        },
+        "instances": {i.name: _instance(i) for i in system.instances},
         "connections": connections,
         "parameters": {str(port): value for port, value in system.parameters.items()},
         "log": {name: list(names) for name, names in system.log_variables.items()},
@@ -110,6 +110,16 @@ def to_yaml(system: System) -> str:
     if system.end_time is not None:
         data["end_time"] = system.end_time
     return dump_yaml(data)
+
+
+def _instance(instance: Instance) -> str | dict[str, Any]:
+    """An instance as the YAML form writes it: its FMU, or a mapping when it asks more."""
+    if not instance.isolated:
+        return instance.fmu
+    out: dict[str, Any] = {"fmu": instance.fmu, "isolated": True}
+    if instance.python_requirements:
+        out["python_requirements"] = list(instance.python_requirements)
+    return out
 
 
 class _Reader:
@@ -165,20 +175,36 @@ class _Reader:
         for name, value in self.mapping(("instances",), raw).items():
             path: YamlPath = ("instances", name)
             fmu, isolated = value, False
-            if isinstance(value, dict):  # {fmu: file, isolated: true}
-                unknown = sorted(str(k) for k in set(value) - {"fmu", "isolated"})
+            requirements: tuple[str, ...] = ()
+            if isinstance(value, dict):  # {fmu: file, isolated: true, python_requirements: []}
+                unknown = sorted(str(k) for k in set(value) - INSTANCE_KEYS)
                 if unknown:
-                    keys = ", ".join(unknown)
-                    raise self.fail(path, f"has unknown keys ({keys}); it takes fmu and isolated")
+                    raise self.fail(
+                        path,
+                        f"has unknown keys ({', '.join(unknown)}); it takes fmu, isolated and "
+                        "python_requirements",
+                    )
                 fmu, isolated = value.get("fmu"), value.get("isolated", False)
                 if not isinstance(isolated, bool):
                     raise self.fail((*path, "isolated"), "is not true or false")
+                requirements = self._requirements((*path, "python_requirements"), value)
             if not isinstance(fmu, str) or not fmu:
                 raise self.fail(path, "is not an FMU path or lib: reference")
-            out.append(Instance(name=name, fmu=fmu, isolated=isolated))
+            # an environment of its own is a process of its own
+            isolated = isolated or bool(requirements)
+            out.append(Instance(name, fmu, isolated, requirements))
         if not out:
             raise self.fail(("instances",), "is empty")
         return tuple(out)
+
+    def _requirements(self, path: YamlPath, entry: Mapping[str, Any]) -> tuple[str, ...]:
+        raw = entry.get("python_requirements", [])
+        if not isinstance(raw, list) or not all(isinstance(r, str) for r in raw):
+            raise self.fail(path, 'is not a list of requirements ("name==version")')
+        for i, line in enumerate(raw):
+            if (problem := requirement_problem(line)) is not None:
+                raise self.fail((*path, i), problem)
+        return tuple(raw)
 
     def _connections(self, raw: Any) -> tuple[Connection, ...]:
         out: list[Connection] = []
