@@ -16,8 +16,10 @@ from twinlink.cli.common import HelpGroup
 from twinlink.cli.connectors import connectors
 from twinlink.cli.cosim import cosim
 from twinlink.cli.deploy import deploy
+from twinlink.cli.exporting import export
 from twinlink.cli.gateway import audit, service_accounts, services
 from twinlink.cli.history import history
+from twinlink.cli.importformats import FORMAT_COMMANDS
 from twinlink.cli.importing import import_
 from twinlink.cli.library import lib
 from twinlink.cli.processors import blueprints, fmus, processors
@@ -72,6 +74,7 @@ COMMANDS: tuple[click.Command, ...] = (
     apply,
     search,
     import_,
+    export,
     twins,
     devices,
     users,
@@ -94,3 +97,6 @@ COMMANDS: tuple[click.Command, ...] = (
 )
 for _command in COMMANDS:
     main.add_command(_command)
+# `twinlink import wot-td|dtdl|aas` beside `import twinbase` (cli/importformats.py)
+for _command in FORMAT_COMMANDS:
+    import_.add_command(_command)
