@@ -160,6 +160,7 @@ def test_a_renamed_twins_dt_id_still_leads_to_it(server: Server) -> None:
         gone = anon.get(f"{server.url}/twins/{unique('never')}")
     assert moved.status_code == 308
     assert moved.headers["location"] == f"{server.url}/twins/{new}/index.json?x=1"
+    assert moved.headers["cache-control"] == "no-cache"
     assert gone.status_code == 404
     # dtweb (requests) follows the redirect: the host URL is the new one.
     assert dtweb.client.fetch_host_url(dt_id) == f"{server.url}/twins/{new}"
@@ -179,7 +180,11 @@ def test_a_renamed_twin_the_caller_may_not_see_is_not_revealed(server: Server) -
         assert r.status_code == 404, r.text
         assert new not in r.text
     with server.admin as admin:
-        assert admin.get(dt_id).headers["location"] == f"{server.url}/twins/{new}"
+        shown = admin.get(dt_id)
+    assert shown.headers["location"] == f"{server.url}/twins/{new}"
+    # A redirect a token was shown stays out of shared caches, as the document would.
+    assert shown.headers["cache-control"] == "private, no-store"
+    assert "Authorization" in shown.headers["vary"]
 
 
 def test_dtweb_reads_nothing_that_needs_a_token(server: Server) -> None:

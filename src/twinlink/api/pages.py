@@ -21,6 +21,7 @@ from twinlink.api.federation import remote_relations
 from twinlink.api.models.problem import problems
 from twinlink.api.twinbase import site_index, visible_twins
 from twinlink.domain.errors import InvalidInputError, NotFoundError
+from twinlink.domain.records import TwinRecord
 from twinlink.domain.yamlsource import dump_yaml
 from twinlink.formats import FORMATS as EXPORTS
 from twinlink.web.render import index_page, twin_page
@@ -126,8 +127,8 @@ def answer(request: Request, body: bytes, media_type: str, headers: dict[str, st
     return Response(body, media_type=media_type, headers=headers)
 
 
-async def _moved(slug: str, caller: MaybeCaller, reg: Registry) -> str | None:
-    """The slug of the twin whose id is this slug's canonical URL, when that twin has been
+async def _moved(slug: str, caller: MaybeCaller, reg: Registry) -> TwinRecord | None:
+    """The twin whose id is this slug's canonical URL, when that twin has been
     renamed since and the caller may see it. Such an id was given to a twin created without
     one; it is meant to stay a permanent link (a dt-id), so it keeps leading to the twin."""
     dt_id = reg.canonical_url(slug)
@@ -138,7 +139,7 @@ async def _moved(slug: str, caller: MaybeCaller, reg: Registry) -> str | None:
         await reg.require_twin(caller, found.slug)  # one the caller may not see stays unknown
     except NotFoundError:
         return None
-    return found.slug
+    return found
 
 
 def _cache_headers(public: bool) -> dict[str, str]:
@@ -165,7 +166,10 @@ async def _serve(
         # The rest of the path (`/index.json`) and the query follow the twin to its new slug.
         rest = request.url.path.removeprefix(f"/twins/{slug}")
         query = f"?{request.url.query}" if request.url.query else ""
-        return RedirectResponse(reg.canonical_url(moved) + rest + query, status_code=308)
+        target = reg.canonical_url(moved.slug) + rest + query
+        # A 308 may be cached: one a token was shown must not reach other readers.
+        headers = _cache_headers(caller.user is None and moved.visibility == "public")
+        return RedirectResponse(target, status_code=308, headers=headers)
     if fmt == "html":  # the twins of other instances it names, linked (docs/federation.md)
         request.state.remotes = await remote_relations(request, doc)
     form = FORMATS[fmt]
