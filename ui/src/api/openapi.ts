@@ -3349,8 +3349,37 @@ export interface components {
             name?: string | null;
             /** Registered */
             registered?: boolean | null;
+            remote?: components["schemas"]["RemoteSummary"] | null;
             /** Nodes */
             nodes: components["schemas"]["RelationNode"][];
+        };
+        /**
+         * RemoteSummary
+         * @description A twin of another instance a relation names (docs/federation.md).
+         */
+        RemoteSummary: {
+            /**
+             * Url
+             * @description Where the document was fetched (its hosting-iri).
+             */
+            url: string;
+            /** Name */
+            name: string;
+            /**
+             * State
+             * @description reachable, stale or gone; pending (not fetched yet) or refused (by the SSRF guard) when no copy is kept.
+             */
+            state: string;
+            /**
+             * Fetched At
+             * @description When the copy was fetched (RFC 3339, UTC).
+             */
+            fetched_at: string | null;
+            /**
+             * Remote Id
+             * @description The remote twin (/api/v1/remote-twins).
+             */
+            remote_id?: number | null;
         };
         /** ReportAck */
         ReportAck: {

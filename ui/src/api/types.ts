@@ -11,6 +11,8 @@ export type LoginAnswer = Schemas["LoginAnswer"];
 export type TwinSummary = Schemas["TwinSummary"];
 export type TwinPage = Schemas["TwinPage"];
 export type RelationNode = Schemas["RelationNode"];
+/** A twin of another instance a relation names (docs/federation.md). */
+export type RemoteSummary = Schemas["RemoteSummary"];
 export type Device = Schemas["DeviceState"];
 export type SearchMatch = Schemas["Match"];
 export type SearchHit = Schemas["Hit"];
