@@ -122,6 +122,7 @@ def _fill(path: str, world: World, slug: str) -> str:
         "tag": "t1",
         "path": "x.txt",
         "user": world.username,
+        "peer": "peer.example.org",
     }
 
     def sub(m: re.Match[str]) -> str:

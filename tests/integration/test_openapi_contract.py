@@ -138,6 +138,7 @@ def test_every_operation_answers_as_described(walk: Walk, fmu_files: FmuFiles) -
     _users_and_tokens(walk)
     _system(walk)
     _library(walk)
+    _federation(walk)
     _deployments(walk)
     _runs(walk)
     _cosims(walk, fmu_files)
@@ -322,6 +323,15 @@ def _system(w: Walk) -> None:
     w.ok(w.admin.get("/readyz"))
     w.ok(w.admin.get("/metrics"))
     w.ok(w.admin.get("/api/v1/mqtt"))
+
+
+def _federation(w: Walk) -> None:
+    peer = "/api/v1/federation/peers/peer.example.org"
+    w.ok(w.admin.put(peer, json={"token": "a-token-of-the-peer"}))
+    w.ok(w.admin.get("/api/v1/federation/peers"))
+    w.ok(w.admin.delete(peer), 204)
+    # This server's own twin, fetched as another instance's (loopback allowed here).
+    w.ok(w.admin.get("/api/v1/resolve", params={"id": f"{w.server.url}/twins/{w.slug}"}))
 
 
 def _library(w: Walk) -> None:
