@@ -23,8 +23,9 @@ import psutil
 import pytest
 from scipy.integrate import solve_ivp
 
-from tests.conftest import FmuFiles
+from tests.conftest import FmuFiles, start_server, stop_server
 from tests.integration import _fmu_c
+from tests.integration._util import assert_problem, make_user, unique
 from twinlink.cosim.isolated import IsolatedSlave
 from twinlink.cosim.kinds import kind_of, open_slave
 from twinlink.cosim.mexslave import MeSlave, Solver
@@ -469,3 +470,26 @@ def test_the_yaml_form_refuses_wrong_python_requirements(entry: str, message: st
     )
     with pytest.raises(InvalidInputError, match=message):
         read_yaml("t.yaml", text=text)
+
+
+def test_only_those_who_may_send_fmus_may_ask_the_server_for_packages(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> None:
+    """pip runs the code of the packages it installs: a co-simulation asking for
+    python_requirements needs the right native code needs (admins, by default), and is
+    refused before anything is resolved or built."""
+    server = start_server(tmp_path_factory.mktemp("data"))
+    try:
+        token = make_user(server, unique("modeller"))
+        yaml_headers = {"Content-Type": "application/yaml"}
+        with server.admin as admin, server.client(token) as user:
+            r = user.post("/api/v1/cosims", content=TRIPLER_YAML.encode(), headers=yaml_headers)
+            body = assert_problem(r, 403)
+            assert body["detail"].startswith(
+                "the upload holds python_requirements, packages pip would install"
+            )
+            # an admin passes the check: the FMU itself is then looked for (and not found)
+            r = admin.post("/api/v1/cosims", content=TRIPLER_YAML.encode(), headers=yaml_headers)
+            assert "Tripler.fmu" in assert_problem(r, 422)["detail"]
+    finally:
+        stop_server(server)

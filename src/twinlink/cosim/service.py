@@ -51,6 +51,8 @@ from .recovery import gone_nodes, kill_leftover, note_worker
 from .resultfile import read_columns
 from .upload import receive
 
+_NATIVE = "FMU files, native code that would run on the server"
+_INSTALLS = "python_requirements, packages pip would install (and run the code of) on the server"
 log = logging.getLogger("twinlink.cosim")
 
 INTERRUPTED = "the server stopped while this co-simulation ran; start it again"
@@ -211,6 +213,8 @@ class CosimService:
         self.settings.root.mkdir(parents=True, exist_ok=True)
         received = await receive(body, content_type, folder, self.settings.max_bytes)
         system = await asyncio.to_thread(bundles.read_system, folder, received)
+        if any(i.python_requirements for i in system.instances):  # pip runs packages' code
+            self._check_may_upload_fmus(principal, twin is not None, _INSTALLS)
         sources = bundles.Sources(principal, self.library)
         if twin is not None:
             sources.twin, sources.twin_fmus = twin.slug, lambda: self._twin_fmus(twin)
@@ -225,13 +229,19 @@ class CosimService:
     async def _twin_fmus(self, twin: TwinRecord) -> tuple[list[FmuRecord], Path]:
         return await self.store.list_fmus(twin.id), self.fmus.folder(twin.id)
 
-    def _check_may_upload_fmus(self, principal: Principal, editor_of_twin: bool) -> None:
+    def _check_may_upload_fmus(
+        self, principal: Principal, editor_of_twin: bool, what: str = _NATIVE
+    ) -> None:
         if principal.is_admin or (self.settings.fmu_uploaders == "editors" and editor_of_twin):
             return
         raise ForbiddenError(
-            "the upload holds FMU files, native code that would run on the server: only "
-            "admins upload FMUs here (TWINLINK_FMU_UPLOADERS=editors lets a twin's editors, "
-            "with ?twin=); or name FMUs uploaded to the twin, or library models (lib:...)"
+            f"the upload holds {what}: only admins send them here (TWINLINK_FMU_UPLOADERS="
+            "editors lets a twin's editors, with ?twin=)"
+            + (
+                "; or name FMUs uploaded to the twin, or library models (lib:...)"
+                if what == _NATIVE
+                else ""
+            )
         )
 
     async def _writable_twin(self, principal: Principal, slug: str) -> TwinRecord:
