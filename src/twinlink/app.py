@@ -386,11 +386,9 @@ def create_app(
     problems.install(app)
     routers = (system, auth, twins, devices, device_ws, live, history_api, commands, properties)
     routers_more = (processors, gateway_api, connectors_api, mqtt_api, deployments_api, runs_api,
-                    cosims_api, federation_api)  # fmt: skip
+                    cosims_api, federation_api, exports)  # fmt: skip
     app.include_router(library_api.router)  # /api/v1/library
-    # exports: /twins/{slug}/export.aasx, and the ?format= exports it registers in pages
-    pages_etc = (search, remote, pages, exports, app_ui)
-    for module in (*routers, *routers_more, workspaces_api, *pages_etc):
+    for module in (*routers, *routers_more, workspaces_api, search, remote, pages, app_ui):
         app.include_router(module.router)
     apidocs.install(app)
     app.add_middleware(MetricsMiddleware, metrics=metrics)
