@@ -212,6 +212,9 @@ def test_another_twinlink_is_mirrored_with_its_public_twins(server: Server, peer
         pump = _remote(admin, twins["Peer pump"]["id"])
     assert pump["dt_id"] == "https://peer.example/pump"
     assert pump["url"].startswith(f"{peer.url}/twins/") and pump["source"] == peer.url
+    assert pump["etag"]  # twinlink's documents have ETags: importing again costs a 304
+    again = _by_name(_import(server, peer.url))["Peer pump"]
+    assert again["fetched_at"] == pump["fetched_at"] and again["checked_at"] > pump["checked_at"]
 
 
 def test_the_cli_imports_a_site_and_says_what_failed(
