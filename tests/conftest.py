@@ -158,6 +158,7 @@ FMU_SOURCES = {
     "incubator_kalman": ROOT / "tests" / "fmus" / "incubator_kalman",
     "chain_mass": ROOT / "tests" / "fmus" / "chain_mass",
     "maxstep": ROOT / "tests" / "fmus" / "maxstep",
+    "ticks3": ROOT / "tests" / "fmus" / "ticks3",
 }
 
 
@@ -186,5 +187,6 @@ def fmu_files(tmp_path_factory: pytest.TempPathFactory) -> FmuFiles:
     "msd_mass" and "msd_spring", the Incubator's "incubator_plant", "incubator_controller" and
     "incubator_kalman", and "chain_mass", one mass of a chain (FMI 2.0); "msd_mass_me" is
     msd_mass as model exchange only (FMI 2.0); "ticks" discards every step passing a tick;
-    "maxstep" tells the time to its next tick through fmi2GetMaxStepsize."""
+    "maxstep" tells the time to its next tick through fmi2GetMaxStepsize; "ticks3" (FMI 3.0)
+    returns early from a step passing a whole second, without terminating."""
     return FmuFiles(tmp_path_factory.mktemp("fmus"))

@@ -1,5 +1,6 @@
 """The var-step master: accuracy for fewer steps than a fixed step, rejected steps rolled back
-(FMI 2 FMU state), a step an FMU ends early redone up to there by all, and without rollback
+(FMI 2 FMU state), a step an FMU ends early (fmi2Discard; an FMI 3 early return without
+termination) redone up to there by all, and without rollback
 a run that adapts but never rejects, saying so. Maestro's var-step constraints (zero
 crossings, bounded differences, sampling points, FMUs' maximum step sizes) and the
 tolerance from the file."""
@@ -40,6 +41,7 @@ def fmus(fmu_files: FmuFiles) -> dict[str, Path]:
         "msd2.fmu": fmu_files("msd_spring"),
         "ticks.fmu": fmu_files("ticks"),
         "maxstep.fmu": fmu_files("maxstep"),
+        "ticks3.fmu": fmu_files("ticks3"),
     }
 
 
@@ -329,3 +331,41 @@ def test_without_rollback_a_constraint_only_bounds_the_next_step(
     assert "cannot reject" in session.warnings[0]
     steps = np.abs(np.diff(result.column("{msd1}.m1.x1")))
     assert np.median(steps) <= 0.005  # sized from the last change: most within the bound
+
+
+def with_ticks3(system: System) -> System:
+    return replace(
+        system,
+        instances=(*system.instances, Instance("clock3", "ticks3.fmu")),
+        log_variables={**system.log_variables, "clock3": ("counter",)},
+    )
+
+
+def test_an_fmi3_early_return_without_termination_is_a_row_and_the_run_goes_on(
+    fmus: dict[str, Path],
+) -> None:
+    """The FMI 3 ticks3 FMU returns early from every step passing a whole second
+    (earlyReturn, lastSuccessfulTime that second, terminateRequested false): every instance is
+    brought back and steps to that second, a row falls on each, and the run reaches its end."""
+    result, session = simulate(
+        with_ticks3(varstep(msd_system("jacobi", 0.05), 1e-3, 0.5)), fmus, 1e-3
+    )
+    assert session.ended == "" and session.varstep is not None
+    assert session.varstep.shortened >= 9
+    times, counter = result.column("time"), result.column("clock3.counter")
+    assert times[-1] == 10.0
+    assert np.array_equal(counter, 1 + np.floor(times + 1e-9))  # no instance ahead of another
+    for second in range(1, 10):
+        row = int(np.searchsorted(times, second - 1e-9))
+        assert times[row] == pytest.approx(second, abs=1e-9) and counter[row] == second + 1
+
+
+def test_an_fmi3_early_return_without_rollback_fails_naming_the_instance(
+    fmus: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    without_rollback(monkeypatch, "msd1.m1")
+    system = with_ticks3(varstep(msd_system("jacobi", 0.05), 1e-3, 0.5))
+    with pytest.raises(CosimRunError, match=r"instance 'clock3' \(ticks3.fmu\) ended the step"):
+        simulate(system, fmus, 1e-3)
+    with pytest.raises(CosimRunError, match="use the var-step algorithm"):
+        run(with_ticks3(msd_system("jacobi", 0.3)), fmus)  # 0.9 -> 1.2 s passes 1 s
