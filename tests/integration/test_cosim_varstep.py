@@ -1,9 +1,8 @@
 """The var-step master: accuracy for fewer steps than a fixed step, rejected steps rolled back
 (FMI 2 FMU state), a step an FMU ends early (fmi2Discard; an FMI 3 early return without
-termination) redone up to there by all, and without rollback
-a run that adapts but never rejects, saying so. Maestro's var-step constraints (zero
-crossings, bounded differences, sampling points, FMUs' maximum step sizes) and the
-tolerance from the file."""
+termination) redone up to there by all, and without rollback a run that adapts but never
+rejects, saying so. Maestro's var-step constraints (zero crossings, bounded differences,
+sampling points, FMUs' maximum step sizes) and the tolerance from the file."""
 
 from __future__ import annotations
 
