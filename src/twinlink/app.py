@@ -33,8 +33,8 @@ from twinlink.api import (
 from twinlink.api import connectors as connectors_api
 from twinlink.api import cosims as cosims_api
 from twinlink.api import deployments as deployments_api
-from twinlink.api import gateway as gateway_api
 from twinlink.api import federation as federation_api
+from twinlink.api import gateway as gateway_api
 from twinlink.api import history as history_api
 from twinlink.api import library as library_api
 from twinlink.api import mqtt as mqtt_api
@@ -55,8 +55,8 @@ from twinlink.cosim.service import CosimService, CosimSettings
 from twinlink.deploy.apply import Parts
 from twinlink.deploy.runs import RunService
 from twinlink.deploy.service import DeploymentService
-from twinlink.gateway.metrics import GatewayCollector
 from twinlink.federation.service import Federation
+from twinlink.gateway.metrics import GatewayCollector
 from twinlink.gateway.proxy import GatewayApp
 from twinlink.gateway.service import GatewayService
 from twinlink.history.maintenance import HistoryMaintenance
@@ -123,8 +123,8 @@ class Services:
     workspaces: WorkspaceService | None = None  # each user's JupyterLab (workspaces/)
     runs: RunService | None = None  # deployments' lifecycle runs (deploy/runs.py)
     cosims: CosimService | None = None  # co-simulations made through the API (cosim/)
-
     federation: Federation | None = None  # other instances' twins (federation/)
+
 
 def build_services(settings: Settings) -> Services:
     stores = pick_storage(settings)
@@ -179,8 +179,8 @@ def build_services(settings: Settings) -> Services:
     services.processors.lib.library = services.library  # for `fmu: lib:...` (libref.py)
     services.search.library = services.library  # assets are found beside twins
     _add_dtaas_services(settings, services, vault, stores.holder)
-    return services
     services.federation = Federation.configured(settings, store, vault)
+    return services
 
 
 def _add_dtaas_services(settings: Settings, services: Services, vault: Vault, node: str) -> None:
@@ -331,9 +331,9 @@ async def stop_services(services: Services) -> None:
     """The reverse of start_services: nothing accepted before this is lost."""
     if services.cosims is not None:  # their runs stopped, their rows so far stored
         await services.cosims.close()
-    if services.deployments is not None:  # terminate/clean phases no longer waited for
     if services.federation is not None:  # fetches in flight cancelled, connections closed
         await services.federation.aclose()
+    if services.deployments is not None:  # terminate/clean phases no longer waited for
         await services.deployments.close()
     if services.runs is not None:  # their process groups killed, the runs cancelled
         await services.runs.close()
