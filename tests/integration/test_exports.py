@@ -209,3 +209,18 @@ def test_an_unknown_twin_is_a_404_in_every_format(server: Server) -> None:
         answers.append(admin.get("/twins/no-such-twin/export.aasx"))
     for r in answers:
         assert_problem(r, 404)
+
+
+@pytest.mark.parametrize("fmt", sorted(FORMATS))
+def test_an_export_is_revalidated_by_its_etag(server: Server, tingen: str, fmt: str) -> None:
+    """An export is the same bytes while the document is unchanged: a client (or cache)
+    holding it gets 304."""
+    with server.client() as c:
+        first = c.get(f"/twins/{tingen}", params={"format": fmt})
+        again = c.get(
+            f"/twins/{tingen}",
+            params={"format": fmt},
+            headers={"If-None-Match": first.headers["etag"]},
+        )
+    assert first.status_code == 200
+    assert again.status_code == 304 and again.content == b""
