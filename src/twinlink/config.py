@@ -227,11 +227,6 @@ class Settings(BaseSettings):
     gateway_audit_days: float = Field(
         30, ge=0, description="Keep the gateway's audit log this many days; 0 keeps it all."
     )
-    mqtt_mode: Literal["embedded", "external", "off"] = Field(
-        "embedded",
-        description="MQTT for devices: embedded (the server listens itself), external (it "
-        "subscribes to a broker you run) or off.",
-    )
     federation_hosts: str = Field(
         "*",
         description="Hosts whose documents may be fetched for relations and imports, comma "
@@ -251,10 +246,19 @@ class Settings(BaseSettings):
     federation_timeout_s: float = Field(
         5, gt=0, le=120, description="Time limit of one fetch from another instance, in seconds."
     )
+    federation_search: bool = Field(
+        False, description="Search includes remote twins unless a query says remote=false."
+    )
     federation_stale_s: int = Field(
         3600,
         ge=0,
-        description="A remote twin's copy older than this many seconds is checked again when shown.",
+        description="A remote twin's copy older than this many seconds is checked again when "
+        "shown.",
+    )
+    mqtt_mode: Literal["embedded", "external", "off"] = Field(
+        "embedded",
+        description="MQTT for devices: embedded (the server listens itself), external (it "
+        "subscribes to a broker you run) or off.",
     )
     mqtt_host: str = Field("127.0.0.1", description="Address the embedded MQTT listener binds to.")
     mqtt_port: int = Field(

@@ -190,6 +190,20 @@ def test_twins_of_two_instances_link_to_each_other_in_a_cycle(
     assert r.json()["remote"]["state"] == "reachable"
 
 
+def test_search_includes_remote_twins_when_asked(instances: tuple[Server, Server, Server]) -> None:
+    a, b, _ = instances
+    b_url = _twin(b, "boiler", "Boiler on B")
+    _twin(a, "burner", "Burner on A", parent=b_url)
+    _state(a, "burner", "reachable")
+    with a.admin as c:
+        plain = c.get("/api/v1/search", params={"q": "boiler"}).json()
+        asked = c.get("/api/v1/search", params={"q": "boiler", "remote": True}).json()
+    assert "remote" not in plain or plain["remote"] is None
+    assert [(h["name"], h["url"], h["state"]) for h in asked["remote"]] == [
+        ("Boiler on B", b_url, "reachable")
+    ]
+
+
 def test_the_public_page_links_remote_relations(instances: tuple[Server, Server, Server]) -> None:
     a, b, _ = instances
     b_url = _twin(b, "line", "Line on B")

@@ -35,6 +35,16 @@ class Facets(BaseModel):
     counted_hits: int = Field(description="how many of the first hits the facets count")
 
 
+class RemoteHit(BaseModel):
+    """A remote twin (another instance's, kept here read-only) whose text holds the query."""
+
+    remote_id: int = Field(description="its id under /api/v1/remote-twins")
+    dt_id: str
+    name: str
+    url: str = Field(description="where its document is (its hosting-iri)")
+    state: str = Field(description="reachable, stale or gone")
+
+
 class SearchAnswer(BaseModel):
     query: str
     keyword: str | None
@@ -43,3 +53,6 @@ class SearchAnswer(BaseModel):
     offset: int
     hits: list[Hit]
     facets: Facets
+    remote: list[RemoteHit] | None = Field(
+        None, description="remote twins that match, when asked for (remote=true) or configured"
+    )
