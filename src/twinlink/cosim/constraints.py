@@ -35,7 +35,6 @@ from .model import Algorithm, Constraint, ConstraintKind, Port
 
 if TYPE_CHECKING:  # the readers import this module: no FMI layer for them
     from .protocol import SlaveLike
-    from .slaves import Group
 
 KINDS: tuple[ConstraintKind, ...] = (
     "zerocrossing",
@@ -298,15 +297,15 @@ class Constraints:
             check.accept(t, h)
 
 
-def prepare(algorithm: Algorithm, slaves: Sequence[SlaveLike]) -> Callable[[], Constraints]:
-    """Register the constraints' ports with their instances (before the buffers are bound);
-    the function returned makes the Constraints once they are."""
+def prepare(algorithm: Algorithm, slaves: Sequence[SlaveLike]) -> Constraints:
+    """The algorithm's constraints over `slaves`, their ports registered with their instances
+    (before the buffers are bound: the values are read from the buffers after each step)."""
     by_name = {s.name: s for s in slaves}
-    made: list[Callable[[], _Check]] = []
+    checks: list[_Check] = []
     warnings: list[str] = []
     for c in algorithm.constraints:
         if c.kind == "samplingrate":
-            made.append(lambda c=c: _Sampling(c))  # type: ignore[misc]
+            checks.append(_Sampling(c))
         elif c.kind == "fmumaxstepsize":
             asks, missing = _max_step_asks(slaves)
             if missing:
@@ -316,15 +315,14 @@ def prepare(algorithm: Algorithm, slaves: Sequence[SlaveLike]) -> Callable[[], C
                     + ("only the others are asked" if asks else "not applied")
                 )
             if asks:
-                made.append(lambda asks=asks: _FmuMaxStepSize(asks))  # type: ignore[misc]
+                checks.append(_FmuMaxStepSize(asks))
+        elif c.kind == "zerocrossing":
+            checks.append(_ZeroCrossing(c, _difference([_reader(by_name, p) for p in c.ports])))
         else:
             ports = [p for p in c.ports if not (c.skip_discrete and _discrete(by_name, p))]
-            readers = [_register(by_name, p) for p in ports]
-            if c.kind == "zerocrossing":
-                made.append(lambda c=c, r=readers: _ZeroCrossing(c, _difference(r)))  # type: ignore[misc]
-            elif readers:
-                made.append(lambda c=c, r=readers: _BoundedDifference(c, [x() for x in r]))  # type: ignore[misc]
-    return lambda: Constraints([make() for make in made], warnings)
+            if ports:
+                checks.append(_BoundedDifference(c, [_reader(by_name, p) for p in ports]))
+    return Constraints(checks, warnings)
 
 
 def _discrete(by_name: dict[str, SlaveLike], port: Port) -> bool:
@@ -334,22 +332,16 @@ def _discrete(by_name: dict[str, SlaveLike], port: Port) -> bool:
     return var.type in ("Integer", "Boolean", "Enumeration") or var.type.startswith(("Int", "UInt"))
 
 
-def _register(by_name: dict[str, SlaveLike], port: Port) -> Callable[[], _Reader]:
-    """Register `port` as an output read after each step; the reader once bound."""
+def _reader(by_name: dict[str, SlaveLike], port: Port) -> _Reader:
+    """Register `port` as an output read after each step; its value then."""
     group, index = by_name[port.instance].port(port.variable, into=False)
-
-    def bound() -> _Reader:
-        g: Group = group
-        return lambda: float(g.buffer[index])
-
-    return bound
+    return lambda: float(group.buffer[index])  # the buffer bound later, looked up each time
 
 
-def _difference(readers: Sequence[Callable[[], _Reader]]) -> _Reader:
-    bound = [r() for r in readers]
-    if len(bound) == 1:
-        return bound[0]
-    first, second = bound
+def _difference(readers: Sequence[_Reader]) -> _Reader:
+    if len(readers) == 1:
+        return readers[0]
+    first, second = readers
     return lambda: first() - second()
 
 

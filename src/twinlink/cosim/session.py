@@ -99,11 +99,12 @@ class Session:
                 watch = _watched(system, feedthrough, self._slaves)
                 if tolerance is None:
                     tolerance = system.algorithm.tolerance or TOLERANCE
-                checks = constraints()
-                self.varstep = VarStep(self._master, system.algorithm, watch, tolerance, checks)
-                if (watch or checks.checks) and not self.varstep.rollback:
+                self.varstep = VarStep(
+                    self._master, system.algorithm, watch, tolerance, constraints
+                )
+                if (watch or constraints.checks) and not self.varstep.rollback:
                     self._warn(_no_rollback(self._slaves))
-                for note in checks.warnings:
+                for note in constraints.warnings:
                     self._warn(note)
         except BaseException:
             self.close()
