@@ -7,6 +7,7 @@ Every document answer carries a strong ETag (a digest of its body) and answers a
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -175,7 +176,11 @@ async def _serve(
     form = FORMATS[fmt]
     headers = _cache_headers(caller.user is None and twin.visibility == "public")
     headers["Link"] = f'<{reg.canonical_url(twin.slug)}>; rel="canonical"'
-    return answer(request, form.render(doc, twin.slug, request), form.media_type, headers)
+    if fmt in ("yaml", "json", "html"):
+        body = form.render(doc, twin.slug, request)
+    else:  # an export (api/exports.py), the AAS SDK's objects above all: off the event loop
+        body = await asyncio.to_thread(form.render, doc, twin.slug, request)
+    return answer(request, body, form.media_type, headers)
 
 
 _ANY_FORMAT = {YAML: _DOCUMENT, "application/json": _DOCUMENT, "text/html": _TEXT}
