@@ -31,7 +31,7 @@ FETCHING = problems(403, 502)  # 502: the other instance could not be read
 
 
 def remote_twins(request: Request) -> RemoteTwins:
-    federation = getattr(request.app.state.services, "federation", None)
+    federation = request.app.state.services.federation
     if federation is None:
         raise TwinlinkError("federation is not set up on this server")
     return federation.remote  # type: ignore[no-any-return]
