@@ -153,7 +153,7 @@ def test_sampling_points_bound_each_step() -> None:
 
 def test_a_zero_crossing_is_predicted_and_a_step_over_it_redone() -> None:
     x = Value(1.0)
-    zc = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", (), abstol=1e-3), x)
+    zc = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", (), abstol=1e-3), x, 1e-6)
     zc.start(0.0)
     assert zc.bound(0.0, 1.0) == 1.0  # one point: nothing to predict from
     x.value = 0.8  # falling 0.2 a second
@@ -169,13 +169,13 @@ def test_a_zero_crossing_is_predicted_and_a_step_over_it_redone() -> None:
 
 def test_a_quadratic_prediction_follows_the_curve() -> None:
     x = Value(4.0)  # f = 4 - t^2 crosses at 2
-    zc = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", (), order=2), x)
+    zc = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", (), order=2), x, 1e-6)
     zc.start(0.0)
     for t in (0.5, 1.0):
         x.value = 4 - t * t
         zc.accept(t, 0.5)
     assert zc.bound(1.0, 10.0) == pytest.approx(2.0)
-    linear = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", ()), x)
+    linear = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", ()), x, 1e-6)
     linear.points = zc.points
     assert linear.bound(1.0, 10.0) == pytest.approx(1.0 + 3.0 / 1.5)  # the chord's 3 s
 
@@ -183,7 +183,7 @@ def test_a_quadratic_prediction_follows_the_curve() -> None:
 def test_a_bounded_difference_sizes_the_next_step_and_redoes_one_over_it() -> None:
     x = Value(10.0)
     bd = constraints._BoundedDifference(
-        Constraint("bd", "boundeddifference", (), abstol=0.1, reltol=0.01, safety=0.0), [x]
+        Constraint("bd", "boundeddifference", (), abstol=0.1, reltol=0.01, safety=0.0), [x], 0.05
     )
     bd.start(0.0)
     assert bd.bound(0.0, 5.0) == 5.0
@@ -196,3 +196,15 @@ def test_a_bounded_difference_sizes_the_next_step_and_redoes_one_over_it() -> No
     x.value = 10.05  # no change: no bound
     bd.accept(2.0, 1.0)
     assert bd.bound(2.0, 10.0) == 10.0 and math.isinf(bd.next_h)
+    x.value = 1e6  # a jump (100 times the bound): the next step at least min_size (0.05)
+    bd.accept(3.0, 1.0)
+    assert bd.bound(3.0, 10.0) == 3.05
+
+
+def test_a_predicted_crossing_nearer_than_min_size_is_stepped_at_min_size() -> None:
+    x = Value(1e-2)
+    zc = constraints._ZeroCrossing(Constraint("zc", "zerocrossing", (), abstol=1e-12), x, 1e-3)
+    zc.start(0.0)
+    x.value = 1e-9  # falling fast: zero predicted 1e-9 s ahead
+    zc.accept(1e-2, 1e-2)
+    assert zc.bound(1e-2, 1.0) == pytest.approx(1e-2 + 1e-3)

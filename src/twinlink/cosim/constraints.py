@@ -18,7 +18,8 @@ legacy COE does:
   extension), asked of the FMI 2 instances in this process that export it.
 
 `safety` keeps a predicted step that fraction short of its limit (boundeddifference: 0.1,
-zerocrossing: 0 by default). Redoing a step needs every instance's state, as for the error
+zerocrossing: 0 by default). No bound is below the algorithm's min_size but a sampling
+point's (a step must land on it), so no answer of an FMU or a prediction stalls the run. Redoing a step needs every instance's state, as for the error
 estimate; without it a constraint only bounds the next step.
 """
 
@@ -166,8 +167,9 @@ class _Check:
 
 
 class _ZeroCrossing(_Check):
-    def __init__(self, c: Constraint, value: _Reader) -> None:
+    def __init__(self, c: Constraint, value: _Reader, floor: float) -> None:
         self.value = value
+        self.floor = floor  # min_size: no shorter step for a prediction
         self.order = c.order
         self.abstol = ZC_ABSTOL if c.abstol is None else c.abstol
         self.safety = c.safety or 0.0
@@ -183,7 +185,7 @@ class _ZeroCrossing(_Check):
         crossing = self._predicted()
         if crossing is None or not t < crossing < target:
             return target
-        return t + (crossing - t) * (1.0 - self.safety)
+        return min(target, t + max(self.floor, (crossing - t) * (1.0 - self.safety)))
 
     def _predicted(self) -> float | None:
         """The next time the last points' line (parabola) reaches zero, None if it does not."""
@@ -211,8 +213,9 @@ class _ZeroCrossing(_Check):
 
 
 class _BoundedDifference(_Check):
-    def __init__(self, c: Constraint, values: Sequence[_Reader]) -> None:
+    def __init__(self, c: Constraint, values: Sequence[_Reader], floor: float) -> None:
         self.values = values
+        self.floor = floor  # min_size: no shorter step for the last change
         self.abstol = BD_ABSTOL if c.abstol is None else c.abstol
         self.reltol = BD_RELTOL if c.reltol is None else c.reltol
         self.safety = BD_SAFETY if c.safety is None else c.safety
@@ -231,7 +234,7 @@ class _BoundedDifference(_Check):
         self.last = self._now()
 
     def bound(self, t: float, target: float) -> float:
-        return min(target, t + self.next_h)
+        return min(target, t + max(self.floor, self.next_h))
 
     def retry(self, t: float, h: float) -> float | None:
         ratio = self._ratio(self._now())
@@ -261,14 +264,15 @@ class _Sampling(_Check):
 
 
 class _FmuMaxStepSize(_Check):
-    def __init__(self, asks: Sequence[Callable[[], float | None]]) -> None:
+    def __init__(self, asks: Sequence[Callable[[], float | None]], floor: float) -> None:
         self.asks = asks
+        self.floor = floor  # min_size: a smaller answer gives this (Maestro does so too)
 
     def bound(self, t: float, target: float) -> float:
         for ask in self.asks:
             size = ask()
             if size is not None and size > 0:
-                target = min(target, t + size)
+                target = min(target, t + max(self.floor, size))
         return target
 
 
@@ -301,6 +305,7 @@ def prepare(algorithm: Algorithm, slaves: Sequence[SlaveLike]) -> Constraints:
     """The algorithm's constraints over `slaves`, their ports registered with their instances
     (before the buffers are bound: the values are read from the buffers after each step)."""
     by_name = {s.name: s for s in slaves}
+    floor = algorithm.min_size or algorithm.size
     checks: list[_Check] = []
     warnings: list[str] = []
     for c in algorithm.constraints:
@@ -315,13 +320,15 @@ def prepare(algorithm: Algorithm, slaves: Sequence[SlaveLike]) -> Constraints:
                     + ("only the others are asked" if asks else "not applied")
                 )
             if asks:
-                checks.append(_FmuMaxStepSize(asks))
+                checks.append(_FmuMaxStepSize(asks, floor))
         elif c.kind == "zerocrossing":
-            checks.append(_ZeroCrossing(c, _difference([_reader(by_name, p) for p in c.ports])))
+            value = _difference([_reader(by_name, p) for p in c.ports])
+            checks.append(_ZeroCrossing(c, value, floor))
         else:
             ports = [p for p in c.ports if not (c.skip_discrete and _discrete(by_name, p))]
             if ports:
-                checks.append(_BoundedDifference(c, [_reader(by_name, p) for p in ports]))
+                values = [_reader(by_name, p) for p in ports]
+                checks.append(_BoundedDifference(c, values, floor))
     return Constraints(checks, warnings)
 
 

@@ -31,8 +31,8 @@ reached its end: with rollback, every instance is restored and the step retried 
 time that instance reached (halved if it got nowhere); without, the run fails naming it.
 
 Maestro's var-step constraints (constraints.py) act on top of the estimate: each bounds the
-next step before it is taken (a step so cut, like the last one cut to the end time, may be
-below min_size and does not shrink the next), and may have a step redone shorter (a
+next step before it is taken (a step so cut does not shrink the next; only a sampling point,
+like the end time, may cut it below min_size), and may have a step redone shorter (a
 rejection as above, counted in `rejected`; without rollback it is kept and counted in
 `forced`).
 """
