@@ -19,8 +19,9 @@ legacy COE does:
 
 `safety` keeps a predicted step that fraction short of its limit (boundeddifference: 0.1,
 zerocrossing: 0 by default). No bound is below the algorithm's min_size but a sampling
-point's (a step must land on it), so no answer of an FMU or a prediction stalls the run. Redoing a step needs every instance's state, as for the error
-estimate; without it a constraint only bounds the next step.
+point's (a step must land on it), so no answer of an FMU or a prediction stalls the run.
+Redoing a step needs every instance's state, as for the error estimate; without it a
+constraint only bounds the next step.
 """
 
 from __future__ import annotations
