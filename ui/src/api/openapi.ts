@@ -1467,6 +1467,75 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/federation/peers": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Origins of other instances this one has a token for (admins) */
+        get: operations["list_peers_api_v1_federation_peers_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/federation/peers/{peer}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /** Store the token sent to a peer (host[:port]) when fetching from it (admins) */
+        put: operations["put_peer_api_v1_federation_peers__peer__put"];
+        post?: never;
+        /** Forget the token of a peer (admins) */
+        delete: operations["delete_peer_api_v1_federation_peers__peer__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/resolve": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Fetch the twin a dt-id or URL of another instance names, now, and keep it */
+        get: operations["resolve_api_v1_resolve_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/twins/{slug}/export.aasx": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The twin as an Asset Administration Shell package (AASX) */
+        get: operations["twin_aasx_twins__slug__export_aasx_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/workspaces/me": {
         parameters: {
             query?: never;
@@ -1537,6 +1606,75 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/remote-twins": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Remote twins: documents of other instances kept here, by name */
+        get: operations["list_remote_twins_api_v1_remote_twins_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/remote-twins/{remote_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A remote twin with its document */
+        get: operations["get_remote_twin_api_v1_remote_twins__remote_id__get"];
+        put?: never;
+        post?: never;
+        /** Forget a remote twin (a relation to it fetches it again) */
+        delete: operations["delete_remote_twin_api_v1_remote_twins__remote_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/remote-twins/import": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Mirror a Twinbase site (or another twinlink) as remote twins: its index.json, then each twin's document; importing again updates them */
+        post: operations["import_remote_twins_api_v1_remote_twins_import_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/remote-twins/{remote_id}/refresh": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Fetch a remote twin again from where it was found (a 304 keeps the copy) */
+        post: operations["refresh_remote_twin_api_v1_remote_twins__remote_id__refresh_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/twins/{slug}": {
         parameters: {
             query?: never;
@@ -1544,7 +1682,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** The twin's DT document (YAML, JSON or HTML by Accept) */
+        /** The twin's DT document (YAML, JSON or HTML by Accept), or ?format= an export */
         get: operations["twin_document_twins__slug__get"];
         put?: never;
         post?: never;
@@ -1561,7 +1699,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** The twin's DT document as YAML */
+        /** The twin's DT document as YAML (Twinbase's layout) */
         get: operations["twin_yaml_twins__slug__index_yaml_get"];
         put?: never;
         post?: never;
@@ -1578,8 +1716,59 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** The twin's DT document as JSON */
+        /** The twin's DT document as JSON (Twinbase's layout) */
         get: operations["twin_json_twins__slug__index_json_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/twins/{slug}/index.html": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The twin's page (Twinbase's layout) */
+        get: operations["twin_html_twins__slug__index_html_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/index.yaml": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The site's twins in Twinbase's index shape (baseurl, owner, twins), as YAML */
+        get: operations["site_yaml_index_yaml_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/index.json": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The site's twins in Twinbase's index shape (baseurl, owner, twins), as JSON */
+        get: operations["site_json_index_json_get"];
         put?: never;
         post?: never;
         delete?: never;
@@ -2584,6 +2773,35 @@ export interface components {
              */
             description?: string | null;
         };
+        /** ImportFailure */
+        ImportFailure: {
+            /** Url */
+            url: string;
+            /** Name */
+            name: string;
+            /** Error */
+            error: string;
+        };
+        /** ImportResult */
+        ImportResult: {
+            /** Source */
+            source: string;
+            /** Imported */
+            imported: components["schemas"]["RemoteTwinSummary"][];
+            /**
+             * Failed
+             * @description twins that could not be fetched, and why
+             */
+            failed: components["schemas"]["ImportFailure"][];
+        };
+        /** ImportSite */
+        ImportSite: {
+            /**
+             * Url
+             * @description The site's root (its index.json is read) or the URL of its index.json
+             */
+            url: string;
+        };
         /**
          * InputMap
          * @description Where a blueprint input comes from: a signal of the source stream, scaled and offset
@@ -2980,6 +3198,37 @@ export interface components {
             /** Levels */
             levels: string[];
         };
+        /** PeerOrigins */
+        PeerOrigins: {
+            /**
+             * Peers
+             * @description Origins this instance has a token for.
+             */
+            peers: string[];
+        };
+        /** PeerStored */
+        PeerStored: {
+            /**
+             * Origin
+             * @description The origin the token is sent to, and only to it.
+             */
+            origin: string;
+        };
+        /** PeerToken */
+        PeerToken: {
+            /**
+             * Token
+             * @description A token of a service account on the peer; stored sealed, never shown.
+             */
+            token: string;
+            /**
+             * Scheme
+             * @description The peer's scheme; http only on a network you trust.
+             * @default https
+             * @enum {string}
+             */
+            scheme?: "https" | "http";
+        };
         /** PendingCommand */
         PendingCommand: {
             /** Id */
@@ -3338,7 +3587,8 @@ export interface components {
         /**
          * RelationNode
          * @description A twin in a relation tree; a related id that is not registered here has
-         *     `registered: false` and no slug or name.
+         *     `registered: false` and no slug or name, and `remote` when it is another instance's
+         *     twin (an http(s) dt-id).
          */
         RelationNode: {
             /** Id */
@@ -3352,6 +3602,31 @@ export interface components {
             remote?: components["schemas"]["RemoteSummary"] | null;
             /** Nodes */
             nodes: components["schemas"]["RelationNode"][];
+        };
+        /**
+         * RemoteHit
+         * @description A remote twin (another instance's, kept here read-only) whose text holds the query.
+         */
+        RemoteHit: {
+            /**
+             * Remote Id
+             * @description its id under /api/v1/remote-twins
+             */
+            remote_id: number;
+            /** Dt Id */
+            dt_id: string;
+            /** Name */
+            name: string;
+            /**
+             * Url
+             * @description where its document is (its hosting-iri)
+             */
+            url: string;
+            /**
+             * State
+             * @description reachable, stale or gone
+             */
+            state: string;
         };
         /**
          * RemoteSummary
@@ -3381,6 +3656,106 @@ export interface components {
              */
             remote_id?: number | null;
         };
+        /** RemoteTwinList */
+        RemoteTwinList: {
+            /** Remote Twins */
+            remote_twins: components["schemas"]["RemoteTwinSummary"][];
+        };
+        /** RemoteTwinSummary */
+        RemoteTwinSummary: {
+            /** Id */
+            id: number;
+            /**
+             * Dt Id
+             * @description the document's dt-id (or id), else the URL it came from
+             */
+            dt_id: string;
+            /**
+             * Url
+             * @description where the document was fetched: its hosting-iri
+             */
+            url: string;
+            /** Name */
+            name: string;
+            /**
+             * Source
+             * @description the site imported, or `relation`
+             */
+            source: string;
+            /**
+             * State
+             * @description reachable, stale (the last check failed or is old) or gone
+             */
+            state: string;
+            /**
+             * Error
+             * @description why the last check failed
+             */
+            error: string;
+            /**
+             * Fetched At
+             * @description when the copy was fetched
+             */
+            fetched_at: string;
+            /**
+             * Checked At
+             * @description when the other instance was last asked
+             */
+            checked_at: string;
+        };
+        /** RemoteTwinView */
+        RemoteTwinView: {
+            /** Id */
+            id: number;
+            /**
+             * Dt Id
+             * @description the document's dt-id (or id), else the URL it came from
+             */
+            dt_id: string;
+            /**
+             * Url
+             * @description where the document was fetched: its hosting-iri
+             */
+            url: string;
+            /** Name */
+            name: string;
+            /**
+             * Source
+             * @description the site imported, or `relation`
+             */
+            source: string;
+            /**
+             * State
+             * @description reachable, stale (the last check failed or is old) or gone
+             */
+            state: string;
+            /**
+             * Error
+             * @description why the last check failed
+             */
+            error: string;
+            /**
+             * Fetched At
+             * @description when the copy was fetched
+             */
+            fetched_at: string;
+            /**
+             * Checked At
+             * @description when the other instance was last asked
+             */
+            checked_at: string;
+            /** Etag */
+            etag: string | null;
+            /** Last Modified */
+            last_modified: string | null;
+            /**
+             * Document
+             * @description the DT document as fetched, read-only
+             */
+            document: {
+                [key: string]: unknown;
+            };
+        };
         /** ReportAck */
         ReportAck: {
             /** Version */
@@ -3392,6 +3767,12 @@ export interface components {
             desired: {
                 [key: string]: unknown;
             };
+        };
+        /** Resolved */
+        Resolved: {
+            /** Id */
+            id: string;
+            remote: components["schemas"]["RemoteSummary"];
         };
         /** Resources */
         Resources: {
@@ -3549,6 +3930,11 @@ export interface components {
             /** Hits */
             hits: components["schemas"]["Hit"][];
             facets: components["schemas"]["Facets"];
+            /**
+             * Remote
+             * @description remote twins that match, when asked for (remote=true) or configured
+             */
+            remote?: components["schemas"]["RemoteHit"][] | null;
         };
         /** Series */
         Series: {
@@ -13004,6 +13390,315 @@ export interface operations {
             };
         };
     };
+    list_peers_api_v1_federation_peers_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PeerOrigins"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    put_peer_api_v1_federation_peers__peer__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                peer: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PeerToken"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PeerStored"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    delete_peer_api_v1_federation_peers__peer__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                peer: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    resolve_api_v1_resolve_get: {
+        parameters: {
+            query: {
+                /** @description a dt-id or URL */
+                id: string;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Resolved"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The other instance could not be read */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    twin_aasx_twins__slug__export_aasx_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                slug: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/asset-administration-shell-package+xml": string;
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
     show_api_v1_workspaces_me_get: {
         parameters: {
             query?: never;
@@ -13246,6 +13941,8 @@ export interface operations {
                 keyword?: string | null;
                 limit?: number;
                 offset?: number;
+                /** @description also remote twins (docs/federation.md); default: TWINLINK_FEDERATION_SEARCH */
+                remote?: boolean | null;
             };
             header?: never;
             path?: never;
@@ -13291,9 +13988,306 @@ export interface operations {
             };
         };
     };
-    twin_document_twins__slug__get: {
+    list_remote_twins_api_v1_remote_twins_get: {
+        parameters: {
+            query?: {
+                /** @description only those whose text holds this */
+                q?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RemoteTwinList"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    get_remote_twin_api_v1_remote_twins__remote_id__get: {
         parameters: {
             query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                remote_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RemoteTwinView"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    delete_remote_twin_api_v1_remote_twins__remote_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                remote_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    import_remote_twins_api_v1_remote_twins_import_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ImportSite"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ImportResult"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Another instance could not be read (unreachable, too slow, not a document) */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    refresh_remote_twin_api_v1_remote_twins__remote_id__refresh_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the id (1 to 2^63-1) */
+                remote_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RemoteTwinView"];
+                };
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description The token is valid, but its user may not do this */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Another instance could not be read (unreachable, too slow, not a document) */
+            502: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    twin_document_twins__slug__get: {
+        parameters: {
+            query?: {
+                /** @description The format, whatever Accept asks: yaml, json, html, or the document converted: wot-td (a W3C WoT Thing Description 1.1), dtdl (a DTDL v3 Interface), aas-json (an Asset Administration Shell environment). */
+                format?: string | null;
+            };
             header?: never;
             path: {
                 slug: string;
@@ -13315,7 +14309,27 @@ export interface operations {
                         [key: string]: unknown;
                     };
                     "text/html": string;
+                    "application/td+json": {
+                        [key: string]: unknown;
+                    };
+                    "application/ld+json": {
+                        [key: string]: unknown;
+                    };
                 };
+            };
+            /** @description Not Modified: the ETag in If-None-Match is current */
+            304: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Permanent Redirect: the twin whose id is this URL has a new slug */
+            308: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
             };
             /** @description No token, or a token that is not valid (expired, revoked, unknown) */
             401: {
@@ -13377,6 +14391,20 @@ export interface operations {
                     };
                 };
             };
+            /** @description Not Modified: the ETag in If-None-Match is current */
+            304: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Permanent Redirect: the twin whose id is this URL has a new slug */
+            308: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
             /** @description No token, or a token that is not valid (expired, revoked, unknown) */
             401: {
                 headers: {
@@ -13437,6 +14465,20 @@ export interface operations {
                     };
                 };
             };
+            /** @description Not Modified: the ETag in If-None-Match is current */
+            304: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Permanent Redirect: the twin whose id is this URL has a new slug */
+            308: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
             /** @description No token, or a token that is not valid (expired, revoked, unknown) */
             401: {
                 headers: {
@@ -13457,6 +14499,204 @@ export interface operations {
             };
             /** @description A parameter or the body is not valid; `errors` says where */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    twin_html_twins__slug__index_html_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                slug: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/html": string;
+                };
+            };
+            /** @description Not Modified: the ETag in If-None-Match is current */
+            304: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Permanent Redirect: the twin whose id is this URL has a new slug */
+            308: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description A parameter or the body is not valid; `errors` says where */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    site_yaml_index_yaml_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/yaml": {
+                        baseurl: string;
+                        owner: {
+                            [key: string]: unknown;
+                        };
+                        twins: {
+                            url: string;
+                            name: string;
+                        }[];
+                    };
+                };
+            };
+            /** @description Not Modified: the ETag in If-None-Match is current */
+            304: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description Storage failed or a read ran over its time budget; try again (Retry-After) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+        };
+    };
+    site_json_index_json_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": {
+                        baseurl: string;
+                        owner: {
+                            [key: string]: unknown;
+                        };
+                        twins: {
+                            url: string;
+                            name: string;
+                        }[];
+                    };
+                };
+            };
+            /** @description Not Modified: the ETag in If-None-Match is current */
+            304: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or a token that is not valid (expired, revoked, unknown) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
+            /** @description There is no such thing, or the caller may not see it */
+            404: {
                 headers: {
                     [name: string]: unknown;
                 };
