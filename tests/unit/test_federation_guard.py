@@ -44,6 +44,8 @@ REFUSED = [
     ("ff02::1", "multicast"),
     ("::ffff:127.0.0.1", "IPv4-mapped IPv6"),
     ("::ffff:8.8.8.8", "IPv4-mapped IPv6"),
+    ("64:ff9b::a9fe:a9fe", "link-local (cloud metadata) (inside 64:ff9b::a9fe:a9fe)"),  # NAT64
+    ("2002:7f00:1::1", "loopback (inside 2002:7f00:1::1)"),  # 6to4 of 127.0.0.1
     ("192.0.2.1", "reserved"),  # TEST-NET-1: documentation only
     ("240.0.0.1", "reserved"),
 ]
@@ -54,7 +56,9 @@ def test_addresses_only_the_server_can_reach_are_refused(address: str, why: str)
     assert address_problem(address, allow_private=False) == why
 
 
-@pytest.mark.parametrize("address", ["8.8.8.8", "1.1.1.1", "2606:4700:4700::1111", "172.32.0.1"])
+@pytest.mark.parametrize(
+    "address", ["8.8.8.8", "1.1.1.1", "2606:4700:4700::1111", "172.32.0.1", "64:ff9b::808:808"]
+)
 def test_public_addresses_pass(address: str) -> None:
     assert address_problem(address, allow_private=False) is None
 

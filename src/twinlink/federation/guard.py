@@ -128,12 +128,27 @@ def address_problem(address: str, allow_private: bool) -> str | None:
         ip: IPAddress = ipaddress.ip_address(address.split("%", 1)[0])
     except ValueError:
         return "not an IP address"
+    embedded = _embedded_ipv4(ip)
+    if embedded is not None:  # NAT64 and 6to4 reach the IPv4 address inside: check that
+        why = address_problem(str(embedded), allow_private)
+        return None if why is None else f"{why} (inside {ip})"
     for net, why in _NETWORKS:
         if ip.version == net.version and ip in net:
             return None if allow_private and why not in _NEVER else why
     if not ip.is_global and not allow_private:
         return "reserved"
     return None
+
+
+_NAT64 = ipaddress.ip_network("64:ff9b::/96")
+
+
+def _embedded_ipv4(ip: IPAddress) -> ipaddress.IPv4Address | None:
+    if not isinstance(ip, ipaddress.IPv6Address):
+        return None
+    if ip in _NAT64:
+        return ipaddress.IPv4Address(int(ip) & 0xFFFFFFFF)
+    return ip.sixtofour
 
 
 def _checked(url: str, policy: FetchPolicy) -> tuple[str, str, int]:
