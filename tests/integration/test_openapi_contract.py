@@ -195,6 +195,9 @@ def _twins_and_devices(w: Walk) -> str:
     for path, accept in (("", "text/html"), ("/index.yaml", "*/*"), ("/index.json", "*/*")):
         w.ok(w.admin.get(f"/twins/{w.slug}{path}", headers={"Accept": accept}))
     w.ok(w.admin.get(f"/twins/{w.slug}/index.html"))
+    for fmt in ("wot-td", "dtdl", "aas-json"):  # the exports (api/exports.py)
+        w.ok(w.admin.get(f"/twins/{w.slug}", params={"format": fmt}))
+    w.ok(w.admin.get(f"/twins/{w.slug}/export.aasx"))
     w.ok(w.admin.get("/index.yaml"))
     w.ok(w.admin.get("/index.json"))
     w.ok(w.admin.get("/api/v1/search", params={"q": "contract"}))
@@ -209,9 +212,6 @@ def _twins_and_devices(w: Walk) -> str:
     return str(made["token"])
 
 
-    for fmt in ("wot-td", "dtdl", "aas-json"):  # the exports (api/exports.py)
-        w.ok(w.admin.get(f"/twins/{w.slug}", params={"format": fmt}))
-    w.ok(w.admin.get(f"/twins/{w.slug}/export.aasx"))
 def _device_side(w: Walk, token: str) -> None:
     now = time.time_ns()
     batch = {"seq": 1, "samples": [{"time": now - 10**9, "values": {"x": 1.5, "label": "a"}},
