@@ -35,6 +35,8 @@ PUBLIC_DOCUMENT_ROUTES = {
     "/twins/{slug}/index.json",
     "/twins/{slug}/index.html",
 }
+# A public document exported as a download (AASX, a zip): public as the document is.
+PUBLIC_EXPORT_ROUTES = {"/twins/{slug}/export.aasx"}
 # Twinbase's root index: without a token it lists the twins with a public part.
 SITE_INDEX_ROUTES = {"/index.yaml", "/index.json"}
 
@@ -168,7 +170,7 @@ def test_every_route_needs_a_token_except_health_login_and_public_documents(
             assert r.status_code < 500, f"{method} {url}: {r.status_code} {r.text[:300]}"
             if (method, path) in NO_TOKEN_OK:
                 assert r.status_code != 401, f"{method} {path} must not need a token"
-            elif path in PUBLIC_DOCUMENT_ROUTES | SITE_INDEX_ROUTES:
+            elif path in PUBLIC_DOCUMENT_ROUTES | PUBLIC_EXPORT_ROUTES | SITE_INDEX_ROUTES:
                 assert r.status_code == 200, f"{method} {url}: {r.text[:300]}"
             else:
                 assert_problem(r, 401)
@@ -184,7 +186,7 @@ def test_public_document_routes_hide_twins_without_a_public_part(
 ) -> None:
     missing = unique("no-such-twin")
     with server.client() as anon:
-        for path in sorted(PUBLIC_DOCUMENT_ROUTES):
+        for path in sorted(PUBLIC_DOCUMENT_ROUTES | PUBLIC_EXPORT_ROUTES):
             hidden = anon.get(_fill(path, world, world.hidden_slug))
             absent = anon.get(_fill(path, world, missing))
             # The same answer as for a twin that does not exist: nothing to tell them apart.
