@@ -138,7 +138,7 @@ def build_services(settings: Settings) -> Services:
     # On a shared bus, commands reach devices connected to other nodes (commands/relay.py).
     relay_bus = bus if settings.bus_url else None
     commands = CommandService(registry, stores.commands, hub, settings.command_timeout_s, relay_bus)
-    vault = open_vault(settings)
+    vault = Vault.configured(settings)
     gateway = GatewayService(store, registry, vault, settings.gateway_default_twin,
                              settings.gateway_audit_days, stores.tokens)  # fmt: skip
     last_used = LastUsed(store)  # of tokens and devices, written behind the requests
@@ -231,21 +231,6 @@ def _workspace_service(settings: Settings, services: Services) -> WorkspaceServi
     fill = materializer(services.library) if services.library is not None else None
     config, shared = WorkspaceSettings.of(settings), services.storage_shared is not None
     return WorkspaceService(config, services.auth, fill, shared_store=shared)
-
-
-def open_vault(settings: Settings) -> Vault:
-    """The vault of stored credentials, with the key of TWINLINK_SECRET_KEY or the data dir's."""
-    secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
-    if secret_key is None and settings.store_url.get_secret_value():
-        # Each node would make a key of its own in its data dir, and read none of the
-        # credentials the other nodes stored in the shared database.
-        log.warning(
-            "TWINLINK_STORE_URL is set but TWINLINK_SECRET_KEY is not: the gateway's stored "
-            "credentials are encrypted with a key in this node's data dir, which other nodes "
-            "do not have; give every node the same TWINLINK_SECRET_KEY (docs/scale-out.md)",
-            extra={"event": "secret_key_per_node"},
-        )
-    return Vault.open(settings.data_dir, secret_key)
 
 
 def data_plane_figures(services: Services) -> dict[str, Any]:

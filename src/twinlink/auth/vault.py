@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import hmac
+import logging
 import os
 from pathlib import Path
 from typing import Any
@@ -17,9 +18,11 @@ from typing import Any
 import orjson
 from cryptography.fernet import Fernet, InvalidToken
 
+from twinlink.config import Settings
 from twinlink.domain.errors import TwinlinkError
 
 KEY_FILE = "secret.key"
+log = logging.getLogger("twinlink.app")  # where this warning was always logged
 
 
 class VaultError(TwinlinkError):
@@ -30,6 +33,22 @@ class Vault:
     def __init__(self, key: bytes) -> None:
         self._fernet = Fernet(key)
         self._mac_key = hashlib.sha256(b"twinlink fingerprint\0" + key).digest()
+
+    @classmethod
+    def configured(cls, settings: Settings) -> Vault:
+        """The vault with the key of TWINLINK_SECRET_KEY, or else the data dir's."""
+        secret_key = settings.secret_key.get_secret_value() if settings.secret_key else None
+        if secret_key is None and settings.store_url.get_secret_value():
+            # Each node would make a key of its own in its data dir, and read none of the
+            # credentials the other nodes stored in the shared database.
+            log.warning(
+                "TWINLINK_STORE_URL is set but TWINLINK_SECRET_KEY is not: the gateway's "
+                "stored credentials are encrypted with a key in this node's data dir, which "
+                "other nodes do not have; give every node the same TWINLINK_SECRET_KEY "
+                "(docs/scale-out.md)",
+                extra={"event": "secret_key_per_node"},
+            )
+        return cls.open(settings.data_dir, secret_key)
 
     @classmethod
     def open(cls, data_dir: Path, key: str | None) -> Vault:

@@ -62,36 +62,45 @@ def parse(raw: Any, where: str, port: PortOf, fail: Fail) -> tuple[Constraint, .
     )
 
 
+class _Fields:
+    """A constraint's numbers read with errors naming their key."""
+
+    def __init__(self, raw: dict[str, Any], where: str, fail: Fail) -> None:
+        self.raw, self.where, self.fail = raw, where, fail
+
+    def number(self, key: str, *, positive: bool = False, signed: bool = False) -> float | None:
+        value, where = self.raw.get(key), f"{self.where}.{key}"
+        if isinstance(value, str):  # the INTO-CPS app writes some numbers as strings
+            try:
+                value = float(value)
+            except ValueError:
+                raise self.fail(where, f"{value!r} is not a number") from None
+        if value is None:
+            return None
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.fail(where, f"{value!r} is not a number")
+        if not math.isfinite(value) or (value < 0 and not signed) or (positive and value == 0):
+            above = "above 0" if positive else "0 or more"
+            raise self.fail(where, f"{value!r} is not a finite number {above}")
+        return float(value)
+
+    def integer(self, key: str, default: int) -> int:
+        value = self.number(key, signed=key == "base")
+        if value is None:
+            return default
+        if value != int(value):
+            raise self.fail(f"{self.where}.{key}", f"{value!r} is not a whole number")
+        return int(value)
+
+
 def _parse_one(name: str, raw: Any, where: str, port: PortOf, fail: Fail) -> Constraint:
     if not isinstance(raw, dict):
         raise fail(where, "is not an object")
     kind = raw.get("type")
     if kind not in KINDS:
         raise fail(f"{where}.type", f"{kind!r} is not one of {', '.join(KINDS)}")
-
-    def number(key: str, *, positive: bool = False, signed: bool = False) -> float | None:
-        value = raw.get(key)
-        if isinstance(value, str):  # the INTO-CPS app writes some numbers as strings
-            try:
-                value = float(value)
-            except ValueError:
-                raise fail(f"{where}.{key}", f"{value!r} is not a number") from None
-        if value is None:
-            return None
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise fail(f"{where}.{key}", f"{value!r} is not a number")
-        if not math.isfinite(value) or (value < 0 and not signed) or (positive and value == 0):
-            above = "above 0" if positive else "0 or more"
-            raise fail(f"{where}.{key}", f"{value!r} is not a finite number {above}")
-        return float(value)
-
-    def integer(key: str, default: int) -> int:
-        value = number(key, signed=key == "base")
-        if value is None:
-            return default
-        if value != int(value):
-            raise fail(f"{where}.{key}", f"{value!r} is not a whole number")
-        return int(value)
+    fields = _Fields(raw, where, fail)
+    number, integer = fields.number, fields.integer
 
     ports: tuple[Port, ...] = ()
     if kind in ("zerocrossing", "boundeddifference"):

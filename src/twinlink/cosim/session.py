@@ -31,6 +31,7 @@ import numpy.typing as npt
 from twinlink.domain.errors import InvalidInputError
 from twinlink.processors.fmuinfo import Scalar
 
+from .constraints import Constraints
 from .constraints import prepare as prepare_constraints
 from .graph import algebraic_loops, describe_loop, feedthrough_of
 from .kinds import open_slave
@@ -94,24 +95,31 @@ class Session:
                 values[port.instance].append((port.variable, value))
             for slave in self._slaves:
                 slave.set_start_values(values[slave.name])
-            self.varstep: VarStep | None = None
-            if system.algorithm.kind == "var-step":
-                watch = _watched(system, feedthrough, self._slaves)
-                if tolerance is None:
-                    tolerance = system.algorithm.tolerance or TOLERANCE
-                self.varstep = VarStep(
-                    self._master, system.algorithm, watch, tolerance, constraints
-                )
-                if (watch or constraints.checks) and not self.varstep.rollback:
-                    self._warn(_no_rollback(self._slaves))
-                for note in constraints.warnings:
-                    self._warn(note)
+            self.varstep = self._varstep(feedthrough, constraints, tolerance)
         except BaseException:
             self.close()
             raise
         self._ncols = len(self.columns)
         self._h = system.algorithm.size
         self._last = _last_step(system)  # the index of the last fixed step, None: open end
+
+    def _varstep(
+        self, feedthrough: _Feedthrough, constraints: Constraints, tolerance: float | None
+    ) -> VarStep | None:
+        """The var-step master over the wired instances (None for a fixed step), with a
+        warning for what it cannot do as the file asks."""
+        system = self.system
+        if system.algorithm.kind != "var-step":
+            return None
+        watch = _watched(system, feedthrough, self._slaves)
+        if tolerance is None:
+            tolerance = system.algorithm.tolerance or TOLERANCE
+        varstep = VarStep(self._master, system.algorithm, watch, tolerance, constraints)
+        if (watch or constraints.checks) and not varstep.rollback:
+            self._warn(_no_rollback(self._slaves))
+        for note in constraints.warnings:
+            self._warn(note)
+        return varstep
 
     def __enter__(self) -> Session:
         return self
