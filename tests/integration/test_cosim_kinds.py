@@ -25,7 +25,7 @@ from scipy.integrate import solve_ivp
 
 from tests.conftest import FmuFiles, start_server, stop_server
 from tests.integration import _fmu_c
-from tests.integration._util import assert_problem, make_user, unique
+from tests.integration._util import assert_problem, make_user, poll_until, unique
 from twinlink.cosim.isolated import IsolatedSlave
 from twinlink.cosim.kinds import kind_of, open_slave
 from twinlink.cosim.mexslave import MeSlave, Solver
@@ -473,12 +473,14 @@ def test_the_yaml_form_refuses_wrong_python_requirements(entry: str, message: st
 
 
 def test_only_those_who_may_send_fmus_may_ask_the_server_for_packages(
-    tmp_path_factory: pytest.TempPathFactory,
+    tmp_path_factory: pytest.TempPathFactory, tripler: Path
 ) -> None:
     """pip runs the code of the packages it installs: a co-simulation asking for
     python_requirements needs the right native code needs (admins, by default), and is
-    refused before anything is resolved or built."""
-    server = start_server(tmp_path_factory.mktemp("data"))
+    refused before anything is resolved or built. An admin's runs on the server, its
+    environment built in the data dir's fmu-envs (shared with the FMU processors)."""
+    data_dir = tmp_path_factory.mktemp("data")
+    server = start_server(data_dir)
     try:
         token = make_user(server, unique("modeller"))
         yaml_headers = {"Content-Type": "application/yaml"}
@@ -491,5 +493,26 @@ def test_only_those_who_may_send_fmus_may_ask_the_server_for_packages(
             # an admin passes the check: the FMU itself is then looked for (and not found)
             r = admin.post("/api/v1/cosims", content=TRIPLER_YAML.encode(), headers=yaml_headers)
             assert "Tripler.fmu" in assert_problem(r, 422)["detail"]
+            # with its FMU beside it, it runs: x stays 0, so each step gives y = 2 x + 3 = 3
+            folder = tmp_path_factory.mktemp("upload") / "t.zip"
+            with zipfile.ZipFile(folder, "w") as z:
+                z.writestr("t.yaml", TRIPLER_YAML)
+                z.write(tripler, "Tripler.fmu")
+            r = admin.post("/api/v1/cosims", content=folder.read_bytes(),
+                           headers={"Content-Type": "application/zip"})  # fmt: skip
+            assert r.status_code == 201, r.text
+            cosim = f"/api/v1/cosims/{r.json()['id']}"
+            assert admin.post(f"{cosim}/start").status_code == 200
+
+            def ended() -> dict[str, object] | None:
+                view: dict[str, object] = admin.get(cosim).json()
+                return view if view["state"] not in ("created", "running") else None
+
+            view = poll_until(ended, "the co-simulation to end", timeout_s=300)
+            assert view["state"] == "finished", view
+            rows = admin.get(f"{cosim}/results").json()
+            assert rows["data"][rows["columns"].index("t.y")][1:] == [3.0] * 4, rows
+            envs = [p for p in (data_dir / "fmu-envs").iterdir() if (p / "ready").is_file()]
+            assert len(envs) == 1, list((data_dir / "fmu-envs").iterdir())
     finally:
         stop_server(server)

@@ -32,6 +32,10 @@ import numpy as np
 import numpy.typing as npt
 import orjson
 
+from twinlink.processors.fmuenv import pip_environment
+
+from .kinds import ENVS_DIR_VAR
+
 log = logging.getLogger("twinlink.cosim")
 
 STOP_GRACE_S = 5.0  # a stopped run's time to end its step and close its FMUs
@@ -62,6 +66,7 @@ class JobSpec:
     factor: float = 1.0
     stream: bool = True
     batch_ms: int = 50
+    envs_dir: Path | None = None  # where Python FMUs' environments are built (fmu-envs)
 
     def to_json(self) -> bytes:
         return orjson.dumps(
@@ -123,10 +128,16 @@ class _Ended:
     stderr: deque[str] = field(default_factory=lambda: deque(maxlen=STDERR_LINES))
 
 
-def worker_environment(home: Path) -> dict[str, str]:
-    """The worker's environment: built from nothing, with what Python and FMUs need."""
+def worker_environment(home: Path, envs_dir: Path | None = None) -> dict[str, str]:
+    """The worker's environment: built from nothing, with what Python and FMUs need, and
+    with `envs_dir`, what pip needs to build a Python FMU's environment there (the index,
+    proxy and certificate settings, as the FMU processors' builds get: fmuenv.py)."""
     env = {"HOME": str(home), "LANG": "C.UTF-8"}
     env.update({k: os.environ[k] for k in _PASSED_ENV if k in os.environ})
+    if envs_dir is not None:
+        env.update(pip_environment())
+        env["HOME"] = str(home)  # pip's cache and config: the run's, not the server's
+        env[ENVS_DIR_VAR] = str(envs_dir)
     return env
 
 
@@ -170,11 +181,12 @@ class CosimJob:
         """Start the worker and give it its job. A worker that cannot start is a run that
         ended "failed" (wait says why), never an exception."""
         home = self.spec.csv.parent
+        env = worker_environment(home, self.spec.envs_dir)
         try:
             self._proc = await asyncio.create_subprocess_exec(
                 self.python, "-m", "twinlink.cosim.worker",
                 stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE,
-                stderr=asyncio.subprocess.PIPE, cwd=home, env=worker_environment(home),
+                stderr=asyncio.subprocess.PIPE, cwd=home, env=env,
                 start_new_session=True, limit=_LINE_LIMIT,
             )  # fmt: skip
         except OSError as err:

@@ -303,6 +303,7 @@ class CosimService:
             document=folder / record.document, format=cast(Format, record.format),
             fmu_paths={ref: folder / f["path"] for ref, f in record.fmus.items()}, csv=csv,
             mode=cast(Mode, record.mode), factor=record.factor, stream=output is not None,
+            envs_dir=self.settings.root.parent / "fmu-envs",  # shared with FMU processors
         )  # fmt: skip
         running = _Running(record, output)
         running.job = CosimJob(spec, on_columns=partial(self._columns, running),
