@@ -8,7 +8,7 @@ import os
 import socket
 import subprocess
 
-from twinlink.deploy.recovery import node_gone
+from twinlink.store.leases import node_gone
 
 
 def test_only_a_dead_node_of_this_host_is_gone() -> None:

@@ -5,16 +5,17 @@ A worker runs in a session of its own (jobs.py), so a server killed with SIGKILL
 running; its pid is noted in its results folder (`worker.pid`, its working directory), and
 the next start kills its process group if that pid is still that worker's. A node
 (store/leases.py's `host:pid:random`) is gone when it is of this host and its process has
-ended; another host's nodes are that host's to judge (deploy/recovery.py judges the lifecycle
-runs' the same way)."""
+ended (store/leases.py node_gone, which the lifecycle runs use too); another host's nodes are
+that host's to judge."""
 
 from __future__ import annotations
 
 import contextlib
 import os
 import signal
-import socket
 from pathlib import Path
+
+from twinlink.store.leases import node_gone
 
 PID_FILE = "worker.pid"
 
@@ -34,18 +35,4 @@ def kill_leftover(results: Path) -> None:
 
 
 def gone_nodes(nodes: list[str]) -> list[str]:
-    return sorted({node for node in nodes if _gone(node)})
-
-
-def _gone(node: str) -> bool:
-    host, _, rest = node.partition(":")
-    pid = rest.partition(":")[0]
-    if host != socket.gethostname() or not pid.isdigit():
-        return False
-    try:
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return True
-    except PermissionError:  # alive, another user's
-        return False
-    return False
+    return sorted({node for node in nodes if node_gone(node)})

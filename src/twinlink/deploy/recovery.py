@@ -6,7 +6,6 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-import socket
 from pathlib import Path
 
 from twinlink.domain.runs import RunRecord
@@ -24,19 +23,3 @@ def kill_leftover(run: RunRecord, work: Path) -> None:
             and Path(f"/proc/{run.pid}/cwd").resolve() == work.resolve()
         ):
             os.killpg(run.pid, signal.SIGKILL)
-
-
-def node_gone(node: str) -> bool:
-    """Whether `node` (store/leases.py's `host:pid:random`) was a server of this host whose
-    process has ended."""
-    host, _, rest = node.partition(":")
-    pid = rest.partition(":")[0]
-    if host != socket.gethostname() or not pid.isdigit():
-        return False
-    try:
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return True
-    except PermissionError:  # alive, another user's
-        return False
-    return False

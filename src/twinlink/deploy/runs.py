@@ -24,11 +24,12 @@ from twinlink.auth.rights import Principal
 from twinlink.auth.service import AuthService
 from twinlink.config import Settings
 from twinlink.deploy import runlog, workdir
-from twinlink.deploy.recovery import kill_leftover, node_gone
+from twinlink.deploy.recovery import kill_leftover
 from twinlink.deploy.runenv import run_environment
 from twinlink.deploy.runner import Limits, Outcome, run_script
 from twinlink.domain.errors import ForbiddenError, InvalidInputError, NotFoundError
 from twinlink.domain.runs import PHASE_PATTERN, TWIN_SCOPE, RunRecord
+from twinlink.store.leases import node_gone
 from twinlink.store.runs import RunStore
 
 log = logging.getLogger("twinlink.runs")

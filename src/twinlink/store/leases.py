@@ -43,6 +43,22 @@ def new_holder() -> str:
     return f"{socket.gethostname()}:{os.getpid()}:{secrets.token_hex(4)}"
 
 
+def node_gone(node: str) -> bool:
+    """Whether `node` (a `new_holder` value) was a server of this host whose process has
+    ended: what it held (runs, leases) may be taken back at once."""
+    host, _, rest = node.partition(":")
+    pid = rest.partition(":")[0]
+    if host != socket.gethostname() or not pid.isdigit():
+        return False
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:  # alive, another user's
+        return False
+    return False
+
+
 class Position(NamedTuple):
     """How far an item got in its input: every sample of `stream` up to time `t` (ns) that
     reached it has been processed."""
