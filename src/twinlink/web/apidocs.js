@@ -19,6 +19,9 @@
       url: "/openapi.json",
       dom_id: "#swagger-ui",
       persistAuthorization: false,
+      // Tags collapsed: the API has well over 100 operations, and a tag's list is what a
+      // reader opens (Swagger UI renders a long list only as far as it is scrolled).
+      docExpansion: "none",
       requestInterceptor: function (req) {
         if (!req.headers.Authorization) req.headers.Authorization = "Bearer " + token;
         return req;
