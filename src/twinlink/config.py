@@ -349,6 +349,12 @@ class Settings(BaseSettings):
         "about 100 MB plus its kernels); starting one more answers 409.",
     )
 
+    @field_validator("data_dir")
+    @classmethod
+    def _absolute_data_dir(cls, path: Path) -> Path:
+        # Runs and workers work in folders of their own, where a relative path names another.
+        return path.expanduser().absolute()
+
     @field_validator("mqtt_broker_url")
     @classmethod
     def _broker_url(cls, url: str) -> str:
@@ -420,8 +426,7 @@ class Settings(BaseSettings):
 
     @property
     def store_shown(self) -> str:
-        """The store for logs and messages: `sqlite` or the PostgreSQL URL without its
-        password."""
+        """The store for logs and messages: `sqlite` or the URL without its password."""
         return shown_store_url(self.store_url.get_secret_value())
 
 

@@ -14,6 +14,18 @@ def test_defaults() -> None:
     assert (s.host, s.port, s.base_url) == ("127.0.0.1", 8000, "http://127.0.0.1:8000")
 
 
+def test_the_data_dir_is_made_absolute_from_where_the_server_starts(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Lifecycle runs and co-simulation workers work in folders of their own: a relative data
+    dir (the default ./twinlink-data, the demo's .twinlink-demo) would name another folder
+    there (a deployment's execute phase could not find its own script)."""
+    monkeypatch.chdir(tmp_path)
+    assert Settings().data_dir == tmp_path / "twinlink-data"
+    assert load_settings(None, data_dir=Path("here/data")).data_dir == tmp_path / "here" / "data"
+    assert Settings(data_dir=Path("/srv/twinlink")).data_dir == Path("/srv/twinlink")
+
+
 def test_env_then_toml_then_flags(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     toml = tmp_path / "twinlink.toml"
     toml.write_text('port = 9001\nhost = "0.0.0.0"\npublic_url = "https://twins.example.org/"\n')

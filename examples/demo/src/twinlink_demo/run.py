@@ -47,7 +47,7 @@ def demo_defaults(settings: Settings) -> None:
     already has 1883: each unless a flag, a variable or the settings file says otherwise."""
     given = settings.model_fields_set  # by a flag, a variable or the settings file
     if "data_dir" not in given:
-        settings.data_dir = Path(".twinlink-demo")
+        settings.data_dir = Path(".twinlink-demo").absolute()  # runs work in their own folders
     # A person reads the demo's output: the welcome says what runs; each device connecting
     # and each schema step would bury it.
     if "log_level" not in given:
